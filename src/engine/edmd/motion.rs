@@ -1,0 +1,100 @@
+//! Free flight under uniform gravity g along +x, and the times at which it meets a plane or
+//! another sphere. Pure functions: *when* things meet, not *what* happens then.
+//!
+//! Between events: x(t) = x0 + c_x t + g t^2 / 2, y and z straight, angular velocity constant.
+//! Because gravity is uniform, the relative motion of two spheres is a straight line, so pair
+//! collision times are roots of a quadratic (thesis eq. 2.19).
+
+/// Position and velocity after free flight over `dt` under gravity `g` along +x.
+#[inline(always)]
+pub fn fly(position: [f64; 3], velocity: [f64; 3], g: f64, dt: f64) -> ([f64; 3], [f64; 3]) {
+    (
+        [
+            position[0] + velocity[0] * dt + 0.5 * g * dt * dt,
+            position[1] + velocity[1] * dt,
+            position[2] + velocity[2] * dt,
+        ],
+        [velocity[0] + g * dt, velocity[1], velocity[2]],
+    )
+}
+
+/// Time until a straight flight x0 + v t reaches the plane at `lower` (moving down) or `upper`
+/// (moving up); `None` when the velocity is zero. A position already past the plane it moves
+/// towards gives 0 (round-off never makes a crossing be lost).
+#[inline(always)]
+pub fn linear_exit_time(x0: f64, v: f64, lower: f64, upper: f64) -> Option<(f64, bool)> {
+    if v > 0.0 {
+        Some((((upper - x0) / v).max(0.0), true))
+    } else if v < 0.0 {
+        Some((((lower - x0) / v).max(0.0), false))
+    } else {
+        None
+    }
+}
+
+/// Time until the parabola x(t) = x0 + v t + g t^2 / 2 (g > 0) leaves [lower, upper], with
+/// `true` when it leaves through `upper`. Roots are taken in their cancellation-free forms.
+#[inline(always)]
+pub fn parabolic_exit_time(x0: f64, v: f64, g: f64, lower: f64, upper: f64) -> (f64, bool) {
+    debug_assert!(g > 0.0);
+    if v < 0.0 {
+        // moving down: it reaches `lower` if v^2 >= 2 g (x0 - lower); the first root is
+        // t_- = 2 (x0 - lower) / (-v + sqrt(disc))
+        let c = x0 - lower;
+        let disc = v * v - 2.0 * g * c;
+        if disc >= 0.0 {
+            return ((2.0 * c / (-v + disc.sqrt())).max(0.0), false);
+        }
+        // turns around below... above `lower`: reaches `upper` at t_+ = (-v + sqrt(disc')) / g
+        let disc_up = v * v - 2.0 * g * (x0 - upper);
+        ((-v + disc_up.sqrt()) / g, true)
+    } else {
+        // moving up (or at rest): t_+ = 2 (upper - x0) / (v + sqrt(v^2 + 2 g (upper - x0)))
+        let c = upper - x0;
+        if c <= 0.0 {
+            return (0.0, true);
+        }
+        let disc = v * v + 2.0 * g * c;
+        (2.0 * c / (v + disc.sqrt()), true)
+    }
+}
+
+/// Time until two unit-diameter spheres with relative position `r` = r_i - r_j and relative
+/// velocity `v` touch, if they approach and meet: the smaller root of
+/// |r + v t|^2 = d^2 (thesis eq. 2.20), written as t = (r^2 - d^2) / (-b + sqrt(b^2 - v^2 (r^2 - d^2)))
+/// with b = r . v. Overlapping approaching spheres (round-off) collide at once (t = 0).
+#[inline(always)]
+pub fn pair_contact_time(r: [f64; 3], v: [f64; 3]) -> Option<f64> {
+    let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
+    if b >= 0.0 {
+        return None;
+    }
+    let gap = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] - 1.0;
+    let v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    let disc = b * b - v2 * gap;
+    if disc < 0.0 {
+        return None;
+    }
+    Some((gap / (-b + disc.sqrt())).max(0.0))
+}
+
+/// As [`pair_contact_time`], but only if the contact comes before `horizon`; avoids the square
+/// root for pairs that cannot beat it (the root satisfies t >= gap / (-2 b)).
+#[inline(always)]
+pub fn pair_contact_time_before(r: [f64; 3], v: [f64; 3], horizon: f64) -> Option<f64> {
+    let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
+    if b >= 0.0 {
+        return None;
+    }
+    let gap = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] - 1.0;
+    if gap > -2.0 * b * horizon {
+        return None;
+    }
+    let v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    let disc = b * b - v2 * gap;
+    if disc < 0.0 {
+        return None;
+    }
+    let t = (gap / (-b + disc.sqrt())).max(0.0);
+    (t < horizon).then_some(t)
+}

@@ -1,0 +1,323 @@
+//! Future-event queues holding at most one event per particle, ordered by (time, particle).
+//!
+//! [`CalendarQueue`] is the fast one: an O(1) calendar (bucket) queue after G. Paul, J. Comput.
+//! Phys. 221, 615 (2007): events of the current bucket sit in a small binary heap, events of the
+//! rest of the current "year" of buckets in unsorted doubly-linked lists threaded through
+//! per-particle arrays (no allocation per event), later events in one overflow list that is
+//! redistributed once a year. [`ReferenceQueue`] is the simple version (a B-tree) that tests
+//! check it against. Both pop in exactly the same order: ties in time go to the smaller index.
+
+use std::collections::BTreeSet;
+
+/// The interface both queues offer.
+pub trait EventQueue {
+    /// Schedule particle `id` at `time` (finite, >= 0), replacing its previous event.
+    fn schedule(&mut self, id: u32, time: f64);
+    /// Drop the event of particle `id`, if any.
+    fn cancel(&mut self, id: u32);
+    /// The earliest event (time, particle) without removing it.
+    fn peek(&mut self) -> Option<(f64, u32)>;
+    /// Remove and return the earliest event.
+    fn pop(&mut self) -> Option<(f64, u32)>;
+    /// Number of scheduled events.
+    fn len(&self) -> usize;
+    /// True when nothing is scheduled.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The simple queue: a B-tree of (time bits, particle). Non-negative f64 order like their bits.
+#[derive(Clone, Debug, Default)]
+pub struct ReferenceQueue {
+    set: BTreeSet<(u64, u32)>,
+    time_of: Vec<Option<u64>>,
+}
+
+impl ReferenceQueue {
+    pub fn new(particles: usize) -> Self {
+        ReferenceQueue { set: BTreeSet::new(), time_of: vec![None; particles] }
+    }
+}
+
+impl EventQueue for ReferenceQueue {
+    fn schedule(&mut self, id: u32, time: f64) {
+        debug_assert!(time >= 0.0 && time.is_finite());
+        self.cancel(id);
+        let bits = time.to_bits();
+        self.set.insert((bits, id));
+        self.time_of[id as usize] = Some(bits);
+    }
+    fn cancel(&mut self, id: u32) {
+        if let Some(bits) = self.time_of[id as usize].take() {
+            self.set.remove(&(bits, id));
+        }
+    }
+    fn peek(&mut self) -> Option<(f64, u32)> {
+        self.set.first().map(|&(bits, id)| (f64::from_bits(bits), id))
+    }
+    fn pop(&mut self) -> Option<(f64, u32)> {
+        let (bits, id) = self.set.pop_first()?;
+        self.time_of[id as usize] = None;
+        Some((f64::from_bits(bits), id))
+    }
+    fn len(&self) -> usize {
+        self.set.len()
+    }
+}
+
+const NOWHERE: u32 = u32::MAX;
+const IN_HEAP: u32 = u32::MAX - 1;
+const IN_OVERFLOW: u32 = u32::MAX - 2;
+const NIL: u32 = u32::MAX;
+
+/// The O(1) calendar queue (see the module docs).
+#[derive(Clone, Debug)]
+pub struct CalendarQueue {
+    /// event time of each particle
+    time: Vec<f64>,
+    /// where each particle's event is: NOWHERE, IN_HEAP, IN_OVERFLOW or a bucket slot
+    place: Vec<u32>,
+    /// list links (buckets and overflow), by particle
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    /// first particle of each bucket's list
+    bucket_head: Vec<u32>,
+    overflow_head: u32,
+    /// binary heap of the current bucket, by particle; `heap_index` is each one's position
+    heap: Vec<u32>,
+    heap_index: Vec<u32>,
+    /// bucket width (time)
+    width: f64,
+    /// absolute index (floor(t / width)) of the bucket whose events are in the heap
+    current: i64,
+    /// absolute index of the first bucket of the current year
+    year_start: i64,
+    /// events in bucket lists (not heap, not overflow)
+    in_buckets: usize,
+    len: usize,
+}
+
+impl CalendarQueue {
+    /// A queue for `particles` particles with `buckets` buckets of `width`, starting at `now`.
+    pub fn new(particles: usize, buckets: usize, width: f64, now: f64) -> Self {
+        assert!(buckets > 0 && width > 0.0 && width.is_finite());
+        let current = (now / width).floor() as i64;
+        CalendarQueue {
+            time: vec![f64::INFINITY; particles],
+            place: vec![NOWHERE; particles],
+            next: vec![NIL; particles],
+            prev: vec![NIL; particles],
+            bucket_head: vec![NIL; buckets],
+            overflow_head: NIL,
+            heap: Vec::with_capacity(64),
+            heap_index: vec![0; particles],
+            width,
+            current,
+            year_start: current,
+            in_buckets: 0,
+            len: 0,
+        }
+    }
+
+    /// Bucket width, in time.
+    pub fn width(&self) -> f64 {
+        self.width
+    }
+
+    #[inline(always)]
+    fn bucket_of(&self, time: f64) -> i64 {
+        (time / self.width).floor() as i64
+    }
+
+    #[inline(always)]
+    fn earlier(&self, a: u32, b: u32) -> bool {
+        let (ta, tb) = (self.time[a as usize], self.time[b as usize]);
+        ta < tb || (ta == tb && a < b)
+    }
+
+    fn place_event(&mut self, id: u32) {
+        let abs = self.bucket_of(self.time[id as usize]);
+        if abs <= self.current {
+            self.heap_push(id);
+        } else if abs < self.year_start + self.bucket_head.len() as i64 {
+            let slot = abs.rem_euclid(self.bucket_head.len() as i64) as u32;
+            let head = self.bucket_head[slot as usize];
+            self.link_front(id, head);
+            self.bucket_head[slot as usize] = id;
+            self.place[id as usize] = slot;
+            self.in_buckets += 1;
+        } else {
+            let head = self.overflow_head;
+            self.link_front(id, head);
+            self.overflow_head = id;
+            self.place[id as usize] = IN_OVERFLOW;
+        }
+    }
+
+    #[inline(always)]
+    fn link_front(&mut self, id: u32, head: u32) {
+        self.prev[id as usize] = NIL;
+        self.next[id as usize] = head;
+        if head != NIL {
+            self.prev[head as usize] = id;
+        }
+    }
+
+    fn unlink(&mut self, id: u32) {
+        let (p, n) = (self.prev[id as usize], self.next[id as usize]);
+        if n != NIL {
+            self.prev[n as usize] = p;
+        }
+        if p != NIL {
+            self.next[p as usize] = n;
+        } else {
+            match self.place[id as usize] {
+                IN_OVERFLOW => self.overflow_head = n,
+                slot => self.bucket_head[slot as usize] = n,
+            }
+        }
+    }
+
+    fn heap_push(&mut self, id: u32) {
+        self.place[id as usize] = IN_HEAP;
+        self.heap.push(id);
+        self.sift_up(self.heap.len() - 1);
+    }
+
+    fn heap_remove(&mut self, pos: usize) {
+        let last = self.heap.pop().expect("heap not empty");
+        if pos < self.heap.len() {
+            self.heap[pos] = last;
+            self.heap_index[last as usize] = pos as u32;
+            self.sift_up(pos);
+            self.sift_down(self.heap_index[last as usize] as usize);
+        }
+    }
+
+    fn sift_up(&mut self, mut pos: usize) {
+        let id = self.heap[pos];
+        while pos > 0 {
+            let parent = (pos - 1) / 2;
+            let p = self.heap[parent];
+            if !self.earlier(id, p) {
+                break;
+            }
+            self.heap[pos] = p;
+            self.heap_index[p as usize] = pos as u32;
+            pos = parent;
+        }
+        self.heap[pos] = id;
+        self.heap_index[id as usize] = pos as u32;
+    }
+
+    fn sift_down(&mut self, mut pos: usize) {
+        let id = self.heap[pos];
+        let n = self.heap.len();
+        loop {
+            let left = 2 * pos + 1;
+            if left >= n {
+                break;
+            }
+            let right = left + 1;
+            let child = if right < n && self.earlier(self.heap[right], self.heap[left]) {
+                right
+            } else {
+                left
+            };
+            let c = self.heap[child];
+            if !self.earlier(c, id) {
+                break;
+            }
+            self.heap[pos] = c;
+            self.heap_index[c as usize] = pos as u32;
+            pos = child;
+        }
+        self.heap[pos] = id;
+        self.heap_index[id as usize] = pos as u32;
+    }
+
+    /// Move on to the next bucket until the heap holds the earliest events.
+    fn refill_heap(&mut self) {
+        let buckets = self.bucket_head.len() as i64;
+        while self.heap.is_empty() && self.len > 0 {
+            if self.in_buckets == 0 {
+                // nothing left this year: jump straight to the year of the earliest overflow event
+                let mut earliest = i64::MAX;
+                let mut id = self.overflow_head;
+                while id != NIL {
+                    earliest = earliest.min(self.bucket_of(self.time[id as usize]));
+                    id = self.next[id as usize];
+                }
+                self.current = earliest - 1;
+                self.year_start = earliest;
+                self.redistribute_overflow();
+            }
+            self.current += 1;
+            if self.current >= self.year_start + buckets {
+                self.year_start += buckets;
+                self.redistribute_overflow();
+            }
+            let slot = self.current.rem_euclid(buckets) as usize;
+            let mut id = std::mem::replace(&mut self.bucket_head[slot], NIL);
+            while id != NIL {
+                let next = self.next[id as usize];
+                self.in_buckets -= 1;
+                self.heap_push(id);
+                id = next;
+            }
+        }
+    }
+
+    /// Move overflow events that now fall within the current year into their buckets.
+    fn redistribute_overflow(&mut self) {
+        let mut id = std::mem::replace(&mut self.overflow_head, NIL);
+        while id != NIL {
+            let next = self.next[id as usize];
+            self.place_event(id);
+            id = next;
+        }
+    }
+}
+
+impl EventQueue for CalendarQueue {
+    fn schedule(&mut self, id: u32, time: f64) {
+        debug_assert!(time >= 0.0 && time.is_finite());
+        self.cancel(id);
+        self.time[id as usize] = time;
+        self.len += 1;
+        self.place_event(id);
+    }
+
+    fn cancel(&mut self, id: u32) {
+        match self.place[id as usize] {
+            NOWHERE => return,
+            IN_HEAP => self.heap_remove(self.heap_index[id as usize] as usize),
+            IN_OVERFLOW => self.unlink(id),
+            _ => {
+                self.unlink(id);
+                self.in_buckets -= 1;
+            }
+        }
+        self.place[id as usize] = NOWHERE;
+        self.len -= 1;
+    }
+
+    fn peek(&mut self) -> Option<(f64, u32)> {
+        self.refill_heap();
+        self.heap.first().map(|&id| (self.time[id as usize], id))
+    }
+
+    fn pop(&mut self) -> Option<(f64, u32)> {
+        self.refill_heap();
+        let id = *self.heap.first()?;
+        self.heap_remove(0);
+        self.place[id as usize] = NOWHERE;
+        self.len -= 1;
+        Some((self.time[id as usize], id))
+    }
+
+    fn len(&self) -> usize {
+        self.len
+    }
+}

@@ -1,0 +1,18 @@
+//! granflow: event-driven simulation, density-wave analysis and sweep orchestration for
+//! gravity-driven granular channel flow ("granular Poiseuille flow").
+//!
+//! Architecture (data flow):
+//! ```text
+//! sweeps/*.ron --parse/validate--> sweep::SweepSpec --expand--> [job params] --id = hash--> results/<sweep>/jobs/<id>/
+//!     job queue (claim, lock) --> rayon pool --> engine::Engine::advance ... snapshots --> analysis
+//!     --> per-job outputs (atomic writes) --> gather --> results/<sweep>/*.parquet --> phase diagram
+//! ```
+//! - [`engine`]: the engine boundary and the event-driven engine ([`engine::edmd`]).
+//! - [`analysis`]: fields, spectra, profiles, steady-state detection, classification.
+//! - [`sweep`]: sweep files, grids, job ids, the resumable queue, tables, phase diagrams.
+//! - [`cli`]: the command-line front end.
+
+pub mod analysis;
+pub mod cli;
+pub mod engine;
+pub mod sweep;
