@@ -24,7 +24,13 @@ impl AxisCells {
     /// Cells at least `min_side` wide over `[origin, origin + span]`.
     pub fn new(origin: f64, span: f64, extent: f64, periodic: bool, min_side: f64) -> Self {
         let count = ((span / min_side).floor() as usize).max(1);
-        AxisCells { count, side: span / count as f64, origin, extent, periodic }
+        AxisCells {
+            count,
+            side: span / count as f64,
+            origin,
+            extent,
+            periodic,
+        }
     }
 
     /// Cell containing coordinate `x` (clamped into the grid).
@@ -38,7 +44,14 @@ impl AxisCells {
     #[inline(always)]
     pub fn faces(&self, c: usize) -> (f64, f64) {
         let lo = self.origin + c as f64 * self.side;
-        (lo, if c + 1 == self.count { self.origin + self.count as f64 * self.side } else { lo + self.side })
+        (
+            lo,
+            if c + 1 == self.count {
+                self.origin + self.count as f64 * self.side
+            } else {
+                lo + self.side
+            },
+        )
     }
 
     /// Neighbour of cell `c` at offset `dc` in {-1, 0, 1}, with the shift to add to a
@@ -108,7 +121,11 @@ impl CellGrid {
     /// Cell coordinates containing position `p`.
     #[inline(always)]
     pub fn locate(&self, p: [f64; 3]) -> [usize; 3] {
-        [self.axes[0].cell_of(p[0]), self.axes[1].cell_of(p[1]), self.axes[2].cell_of(p[2])]
+        [
+            self.axes[0].cell_of(p[0]),
+            self.axes[1].cell_of(p[1]),
+            self.axes[2].cell_of(p[2]),
+        ]
     }
 
     /// Flat cell of particle `id`.

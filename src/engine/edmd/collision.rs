@@ -78,8 +78,14 @@ pub fn pair_collision(
         * ((1.0 - law.restitution * law.restitution) * g_n * g_n
             + kk / (1.0 + kk) * (1.0 - law.roughness * law.roughness) * g_t.norm_squared());
     PairOutcome {
-        first: SphereVelocity { linear: i.linear - impulse, angular: i.angular + spin_change },
-        second: SphereVelocity { linear: j.linear + impulse, angular: j.angular + spin_change },
+        first: SphereVelocity {
+            linear: i.linear - impulse,
+            angular: i.angular + spin_change,
+        },
+        second: SphereVelocity {
+            linear: j.linear + impulse,
+            angular: j.angular + spin_change,
+        },
         impulse,
         dissipated,
     }

@@ -1,37 +1,689 @@
-//! The event-driven engine (placeholder until the engine lands).
+//! The event-driven engine: one scheduled event per particle (validated by collision
+//! counters), a calendar queue, cell lists, and per-particle local times (delayed update,
+//! Lubachevsky 1991): a particle's state is only brought forward when one of its own events
+//! is processed.
 
 use super::EdmdParams;
-use crate::engine::{Engine, EngineError, Progress, Snapshot, StopAt};
+use super::cells::{AxisCells, CellGrid};
+use super::checkpoint::{self, EngineState};
+use super::collision::{self, ContactLaw, SphereVelocity};
+use super::motion::{fly, linear_exit_time, pair_contact_time_before, parabolic_exit_time};
+use super::queue::{CalendarQueue, EventQueue};
+use super::setup;
+use crate::engine::{Counters, Engine, EngineError, Progress, Snapshot, StopAt};
+use nalgebra::Vector3;
+
+/// Cell side is at least d times this factor (> 1 so that round-off at cell faces never hides
+/// a partner).
+const CELL_MARGIN: f64 = 1.0 + 1e-9;
+
+/// Kinematic state of one particle at its own local time: the data read when other particles
+/// look for collision partners, packed into one 64-byte cache line.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(64))]
+pub(crate) struct Kinematics {
+    /// r, centre at `time`
+    pub position: [f64; 3],
+    /// c, velocity at `time`
+    pub velocity: [f64; 3],
+    /// local time of this state
+    pub time: f64,
+    /// number of velocity changes (collisions) since the last rebuild; validates events
+    pub collisions: u32,
+}
+
+/// What a particle's scheduled event is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum EventKind {
+    /// nothing can happen (at rest without gravity)
+    None,
+    /// collision with `partner`, valid while the partner's collision counter still equals
+    /// `partner_collisions`
+    Pair {
+        partner: u32,
+        partner_collisions: u32,
+    },
+    /// leaves its cell along `axis` through the upper (true) or lower face
+    Cross { axis: u8, upper: bool },
+    /// hits the wall at y = W (true) or y = 0
+    Wall { upper: bool },
+}
+
+/// A physical event as processed (for tests that compare engines event by event).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PhysicalEvent {
+    Pair {
+        time: f64,
+        first: u32,
+        second: u32,
+    },
+    Wall {
+        time: f64,
+        particle: u32,
+        upper: bool,
+    },
+}
 
 /// Event-driven engine for rough inelastic hard spheres.
 pub struct EdmdEngine {
     params: EdmdParams,
+    /// particle-particle contact law (e, beta, K)
+    pair_law: ContactLaw,
+    /// particle-wall contact law (e_w, beta_w, K)
+    wall_law: ContactLaw,
+    /// current simulated time (time of the last event, or of the last stop)
+    now: f64,
+    kin: Vec<Kinematics>,
+    /// w, angular velocities (constant between collisions)
+    angular: Vec<[f64; 3]>,
+    /// time of each particle's last collision (pair or wall), for the TC model
+    last_collision: Vec<f64>,
+    event: Vec<EventKind>,
+    queue: CalendarQueue,
+    cells: CellGrid,
+    counters: Counters,
+    /// cumulative impulse delivered to the wall at y = 0 and at y = W
+    wall_momentum: [[f64; 3]; 2],
+    /// cumulative kinetic energy dissipated in collisions
+    dissipated: f64,
+    /// cumulative work of gravity, m g sum of x-displacements
+    gravity_work: f64,
+    /// true directly after a snapshot: the state is synchronised and a checkpoint is valid
+    synchronised: bool,
+    /// physical events, when recording is switched on (tests)
+    log: Option<Vec<PhysicalEvent>>,
 }
 
 impl EdmdEngine {
+    /// A fresh run: place spheres, draw velocities, schedule all events.
     pub fn new(params: EdmdParams) -> Result<Self, EngineError> {
         params.validate()?;
-        Ok(EdmdEngine { params })
+        let start = setup::initial_state(&params)?;
+        let n = params.particles;
+        let state = EngineState {
+            params,
+            now: 0.0,
+            positions: start.positions,
+            velocities: start.velocities,
+            angular_velocities: start.angular_velocities,
+            last_collision: vec![f64::NEG_INFINITY; n],
+            counters: Counters::default(),
+            wall_momentum: [[0.0; 3]; 2],
+            dissipated: 0.0,
+            gravity_work: 0.0,
+        };
+        Ok(Self::from_state(state))
     }
-    pub fn restore(_bytes: &[u8]) -> Result<Self, EngineError> {
-        todo!()
+
+    /// Rebuild an engine from checkpoint bytes (see [`checkpoint`]).
+    pub fn restore(bytes: &[u8]) -> Result<Self, EngineError> {
+        let state = checkpoint::decode(bytes)?;
+        state.params.validate()?;
+        Ok(Self::from_state(state))
+    }
+
+    fn from_state(state: EngineState) -> Self {
+        let p = &state.params;
+        let g = p.geometry;
+        let n = p.particles;
+        let axes = [
+            AxisCells::new(0.0, g.length, g.length, true, CELL_MARGIN),
+            if g.walls {
+                AxisCells::new(
+                    collision::RADIUS,
+                    g.width - 2.0 * collision::RADIUS,
+                    g.width,
+                    false,
+                    CELL_MARGIN,
+                )
+            } else {
+                AxisCells::new(0.0, g.width, g.width, true, CELL_MARGIN)
+            },
+            AxisCells::new(0.0, g.height, g.height, true, CELL_MARGIN),
+        ];
+        let kin = (0..n)
+            .map(|i| Kinematics {
+                position: state.positions[i],
+                velocity: state.velocities[i],
+                time: state.now,
+                collisions: 0,
+            })
+            .collect();
+        let mut engine = EdmdEngine {
+            pair_law: ContactLaw {
+                restitution: p.restitution,
+                roughness: p.roughness,
+                inertia_factor: p.inertia_factor,
+            },
+            wall_law: ContactLaw {
+                restitution: p.wall_restitution,
+                roughness: p.wall_roughness,
+                inertia_factor: p.inertia_factor,
+            },
+            now: state.now,
+            kin,
+            angular: state.angular_velocities,
+            last_collision: state.last_collision,
+            event: vec![EventKind::None; n],
+            queue: CalendarQueue::new(n, 1, 1.0, state.now),
+            cells: CellGrid::new(axes, n),
+            counters: state.counters,
+            wall_momentum: state.wall_momentum,
+            dissipated: state.dissipated,
+            gravity_work: state.gravity_work,
+            synchronised: true,
+            log: None,
+            params: state.params,
+        };
+        engine.rebuild();
+        engine
+    }
+
+    /// Record every physical event from now on (for tests; costs memory).
+    pub fn record_events(&mut self) {
+        self.log = Some(Vec::new());
+    }
+
+    /// The physical events recorded so far.
+    pub fn recorded_events(&self) -> &[PhysicalEvent] {
+        self.log.as_deref().unwrap_or(&[])
+    }
+
+    /// The parameters of this run.
+    pub fn params(&self) -> &EdmdParams {
+        &self.params
+    }
+
+    /// Bytes of memory per particle held by the engine's data structures.
+    pub fn bytes_per_particle(&self) -> f64 {
+        let n = self.kin.len().max(1);
+        let per = std::mem::size_of::<Kinematics>()
+            + std::mem::size_of::<[f64; 3]>()
+            + std::mem::size_of::<f64>()
+            + std::mem::size_of::<EventKind>()
+            + self.queue.bytes_per_particle();
+        (per * n + self.cells.bytes()) as f64 / n as f64
+    }
+
+    /// Bring every particle to the current time, wrap positions into the box, re-sort the
+    /// cells and re-predict all events from scratch. Deterministic in the state alone, so a
+    /// run restored from a checkpoint continues exactly like the run that wrote it.
+    fn rebuild(&mut self) {
+        let n = self.kin.len();
+        for i in 0..n {
+            self.advance_particle(i, self.now);
+            self.kin[i].collisions = 0;
+            let ext = self.params.geometry.extents();
+            for a in 0..3 {
+                if a == 1 && self.params.geometry.walls {
+                    continue;
+                }
+                let x = &mut self.kin[i].position[a];
+                if *x >= ext[a] {
+                    *x -= ext[a];
+                } else if *x < 0.0 {
+                    *x += ext[a];
+                }
+            }
+        }
+        let axes = self.cells.axes;
+        self.cells = CellGrid::new(axes, n);
+        for i in 0..n {
+            let c = self.cells.locate(self.kin[i].position);
+            let flat = self.cells.index(c);
+            self.cells.insert(i as u32, flat);
+        }
+        // predict every particle's next event, then size the calendar from their spread:
+        // about four events per bucket near `now`, a year of buckets spanning ~4 mean times
+        let times: Vec<f64> = (0..n).map(|i| self.predict(i)).collect();
+        let finite: Vec<f64> = times
+            .iter()
+            .filter(|t| t.is_finite())
+            .map(|t| t - self.now)
+            .collect();
+        let mean = if finite.is_empty() {
+            1.0
+        } else {
+            finite.iter().sum::<f64>() / finite.len() as f64
+        };
+        let width = (4.0 * mean / n as f64).max(1e-12);
+        self.queue = CalendarQueue::new(n, n.max(16), width, self.now);
+        for (i, &t) in times.iter().enumerate() {
+            if t.is_finite() {
+                self.queue.schedule(i as u32, t);
+            }
+        }
+    }
+
+    /// Free flight of particle `i` from its local time to `t` (gravity g along +x).
+    #[inline(always)]
+    fn advance_particle(&mut self, i: usize, t: f64) {
+        let k = &mut self.kin[i];
+        let dt = t - k.time;
+        if dt != 0.0 {
+            let g = self.params.gravity;
+            let (r, c) = fly(k.position, k.velocity, g, dt);
+            self.gravity_work += g * (r[0] - k.position[0]);
+            k.position = r;
+            k.velocity = c;
+            k.time = t;
+        }
+    }
+
+    /// Earliest event of particle `i` (whose state is at `now`): leaving its cell, hitting a
+    /// wall, or colliding with a sphere in its own or an adjacent cell. Stores the event kind
+    /// and returns its time (infinite when nothing can happen).
+    fn predict(&mut self, i: usize) -> f64 {
+        let me = self.kin[i];
+        debug_assert_eq!(me.time, self.now);
+        let g = self.params.gravity;
+        let cell = self.cells.cell_of(i as u32);
+        let coords = self.cells.coords(cell);
+        let axes = &self.cells.axes;
+
+        // leaving the cell (the outer faces of the edge cells along a wall axis are the walls)
+        let mut best = f64::INFINITY;
+        let mut kind = EventKind::None;
+        for a in 0..3 {
+            let (lo, hi) = axes[a].faces(coords[a]);
+            let exit = if a == 0 && g > 0.0 {
+                Some(parabolic_exit_time(
+                    me.position[0],
+                    me.velocity[0],
+                    g,
+                    lo,
+                    hi,
+                ))
+            } else {
+                linear_exit_time(me.position[a], me.velocity[a], lo, hi)
+            };
+            if let Some((dt, upper)) = exit {
+                if dt < best {
+                    best = dt;
+                    let at_wall = !axes[a].periodic
+                        && if upper {
+                            coords[a] + 1 == axes[a].count
+                        } else {
+                            coords[a] == 0
+                        };
+                    kind = if at_wall {
+                        EventKind::Wall { upper }
+                    } else {
+                        EventKind::Cross {
+                            axis: a as u8,
+                            upper,
+                        }
+                    };
+                }
+            }
+        }
+
+        // collisions with spheres in the 27 cells around
+        for dz in -1..=1 {
+            let Some((cz, sz)) = axes[2].neighbour(coords[2], dz) else {
+                continue;
+            };
+            for dy in -1..=1 {
+                let Some((cy, sy)) = axes[1].neighbour(coords[1], dy) else {
+                    continue;
+                };
+                for dx in -1..=1 {
+                    let Some((cx, sx)) = axes[0].neighbour(coords[0], dx) else {
+                        continue;
+                    };
+                    let ncell = self.cells.index([cx, cy, cz]);
+                    for &j in self.cells.members(ncell) {
+                        if j as usize == i {
+                            continue;
+                        }
+                        let other = &self.kin[j as usize];
+                        // partner brought to `now` on the fly (its stored state is not touched)
+                        let dt = self.now - other.time;
+                        let (rj, cj) = fly(other.position, other.velocity, g, dt);
+                        let r = [
+                            me.position[0] - (rj[0] + sx),
+                            me.position[1] - (rj[1] + sy),
+                            me.position[2] - (rj[2] + sz),
+                        ];
+                        let v = [
+                            me.velocity[0] - cj[0],
+                            me.velocity[1] - cj[1],
+                            me.velocity[2] - cj[2],
+                        ];
+                        if let Some(t) = pair_contact_time_before(r, v, best) {
+                            best = t;
+                            kind = EventKind::Pair {
+                                partner: j,
+                                partner_collisions: other.collisions,
+                            };
+                        }
+                    }
+                }
+            }
+        }
+        self.event[i] = kind;
+        self.now + best
+    }
+
+    /// Predict and schedule the next event of particle `i`.
+    #[inline]
+    fn reschedule(&mut self, i: usize) {
+        let t = self.predict(i);
+        if t.is_finite() {
+            self.queue.schedule(i as u32, t);
+        } else {
+            self.queue.cancel(i as u32);
+        }
+    }
+
+    /// Process the earliest event. Returns false when no event is left.
+    fn step(&mut self) -> bool {
+        let Some((t, id)) = self.queue.pop() else {
+            return false;
+        };
+        let i = id as usize;
+        self.now = t;
+        self.counters.events += 1;
+        self.synchronised = false;
+        self.advance_particle(i, t);
+        match self.event[i] {
+            EventKind::Pair {
+                partner,
+                partner_collisions,
+            } => {
+                let j = partner as usize;
+                if self.kin[j].collisions == partner_collisions {
+                    self.advance_particle(j, t);
+                    self.collide_pair(i, j);
+                    self.reschedule(i);
+                    self.reschedule(j);
+                } else {
+                    self.reschedule(i);
+                }
+            }
+            EventKind::Cross { axis, upper } => {
+                self.cross_cell(i, axis as usize, upper);
+                self.reschedule(i);
+            }
+            EventKind::Wall { upper } => {
+                self.collide_wall(i, upper);
+                self.reschedule(i);
+            }
+            EventKind::None => unreachable!("a particle without event was scheduled"),
+        }
+        true
+    }
+
+    /// Move particle `i` into the next cell along `axis`, wrapping across the periodic seam.
+    fn cross_cell(&mut self, i: usize, axis: usize, upper: bool) {
+        self.counters.cell_crossings += 1;
+        let cell = self.cells.cell_of(i as u32);
+        let mut coords = self.cells.coords(cell);
+        let ax = self.cells.axes[axis];
+        let (next, shift) = ax
+            .neighbour(coords[axis], if upper { 1 } else { -1 })
+            .expect("crossing stays in the box");
+        // a wrapped neighbour carries the shift that brings it next to the old cell; the
+        // particle itself moves the opposite way
+        self.kin[i].position[axis] -= shift;
+        coords[axis] = next;
+        let flat = self.cells.index(coords);
+        self.cells.relocate(i as u32, flat);
+    }
+
+    /// Minimum-image separation r_i - r_j of two particles at the same time.
+    fn separation(&self, i: usize, j: usize) -> Vector3<f64> {
+        let g = &self.params.geometry;
+        let ext = g.extents();
+        let mut r = [0.0; 3];
+        for a in 0..3 {
+            let mut d = self.kin[i].position[a] - self.kin[j].position[a];
+            if a != 1 || !g.walls {
+                if d > 0.5 * ext[a] {
+                    d -= ext[a];
+                } else if d < -0.5 * ext[a] {
+                    d += ext[a];
+                }
+            }
+            r[a] = d;
+        }
+        Vector3::from(r)
+    }
+
+    /// Pair collision of i and j (both at `now`), with the TC model.
+    fn collide_pair(&mut self, i: usize, j: usize) {
+        let t = self.now;
+        let r = self.separation(i, j);
+        let k = -r / r.norm(); // unit vector from i to j
+        let tc = self.params.tc;
+        let tc_elastic =
+            tc > 0.0 && (t - self.last_collision[i] < tc || t - self.last_collision[j] < tc);
+        let law = if tc_elastic {
+            self.counters.tc_elastic_collisions += 1;
+            ContactLaw {
+                restitution: 1.0,
+                ..self.pair_law
+            }
+        } else {
+            self.pair_law
+        };
+        let first = SphereVelocity {
+            linear: self.kin[i].velocity.into(),
+            angular: self.angular[i].into(),
+        };
+        let second = SphereVelocity {
+            linear: self.kin[j].velocity.into(),
+            angular: self.angular[j].into(),
+        };
+        let out = collision::pair_collision(&first, &second, &k, &law);
+        self.kin[i].velocity = out.first.linear.into();
+        self.kin[j].velocity = out.second.linear.into();
+        self.angular[i] = out.first.angular.into();
+        self.angular[j] = out.second.angular.into();
+        self.kin[i].collisions += 1;
+        self.kin[j].collisions += 1;
+        self.last_collision[i] = t;
+        self.last_collision[j] = t;
+        self.dissipated += out.dissipated;
+        self.counters.pair_collisions += 1;
+        if let Some(log) = &mut self.log {
+            log.push(PhysicalEvent::Pair {
+                time: t,
+                first: i.min(j) as u32,
+                second: i.max(j) as u32,
+            });
+        }
+    }
+
+    /// Collision of particle i with the wall at y = W (upper) or y = 0.
+    fn collide_wall(&mut self, i: usize, upper: bool) {
+        let w = self.params.geometry.width;
+        // at contact the centre is a from the wall; round-off never lets it sink in
+        let y = &mut self.kin[i].position[1];
+        *y = if upper {
+            y.min(w - collision::RADIUS)
+        } else {
+            y.max(collision::RADIUS)
+        };
+        let k = Vector3::new(0.0, if upper { 1.0 } else { -1.0 }, 0.0);
+        let sphere = SphereVelocity {
+            linear: self.kin[i].velocity.into(),
+            angular: self.angular[i].into(),
+        };
+        let out = collision::wall_collision(&sphere, &k, &self.wall_law);
+        self.kin[i].velocity = out.sphere.linear.into();
+        self.angular[i] = out.sphere.angular.into();
+        self.kin[i].collisions += 1;
+        self.last_collision[i] = self.now;
+        let side = &mut self.wall_momentum[upper as usize];
+        for a in 0..3 {
+            side[a] += out.impulse[a];
+        }
+        self.dissipated += out.dissipated;
+        self.counters.wall_collisions += 1;
+        if let Some(log) = &mut self.log {
+            log.push(PhysicalEvent::Wall {
+                time: self.now,
+                particle: i as u32,
+                upper,
+            });
+        }
+    }
+
+    /// Stall check: a window of 100 events per particle that covers less simulated time than
+    /// the TC time t_c (or 1e-9 without the TC model) means inelastic collapse.
+    fn stall_check(&self, window_start_time: f64) -> Result<(), EngineError> {
+        let span = self.now - window_start_time;
+        let floor = if self.params.tc > 0.0 {
+            self.params.tc
+        } else {
+            1e-9
+        };
+        if span < floor {
+            return Err(EngineError::Stalled(format!(
+                "{} events ({} per particle) advanced simulated time by only {span:.3e} at t = {:.6} \
+                 (collisions per particle {:.1}): inelastic collapse. The TC model time is tc = {:e}; \
+                 increase tc (e.g. to {:e}) or raise the restitution",
+                self.stall_window(),
+                self.stall_window() / self.kin.len() as u64,
+                self.now,
+                self.collisions_per_particle(),
+                self.params.tc,
+                if self.params.tc > 0.0 {
+                    self.params.tc * 10.0
+                } else {
+                    1e-4
+                },
+            )));
+        }
+        Ok(())
+    }
+
+    fn stall_window(&self) -> u64 {
+        100 * self.kin.len() as u64
+    }
+
+    fn collisions_per_particle(&self) -> f64 {
+        2.0 * self.counters.pair_collisions as f64 / self.kin.len() as f64
+    }
+
+    /// Current state as plain data (particles at their local times brought to `now`).
+    fn state(&self) -> EngineState {
+        let g = self.params.gravity;
+        let (positions, velocities) = self
+            .kin
+            .iter()
+            .map(|k| fly(k.position, k.velocity, g, self.now - k.time))
+            .unzip();
+        EngineState {
+            params: self.params.clone(),
+            now: self.now,
+            positions,
+            velocities,
+            angular_velocities: self.angular.clone(),
+            last_collision: self.last_collision.clone(),
+            counters: self.counters,
+            wall_momentum: self.wall_momentum,
+            dissipated: self.dissipated,
+            gravity_work: self.gravity_work,
+        }
     }
 }
 
 impl Engine for EdmdEngine {
     fn particle_count(&self) -> usize {
-        self.params.particles
+        self.kin.len()
     }
+
     fn progress(&self) -> Progress {
-        todo!()
+        Progress {
+            time: self.now,
+            collisions_per_particle: self.collisions_per_particle(),
+            events: self.counters.events,
+        }
     }
-    fn advance(&mut self, _stop: StopAt) -> Result<(), EngineError> {
-        todo!()
+
+    fn advance(&mut self, stop: StopAt) -> Result<(), EngineError> {
+        let window = self.stall_window();
+        let mut window_end = self.counters.events + window;
+        let mut window_start_time = self.now;
+        match stop {
+            StopAt::CollisionsPerParticle(target) => {
+                let target_pairs = (target * self.kin.len() as f64 / 2.0).ceil() as u64;
+                while self.counters.pair_collisions < target_pairs {
+                    if !self.step() {
+                        break;
+                    }
+                    if self.counters.events >= window_end {
+                        self.stall_check(window_start_time)?;
+                        window_end += window;
+                        window_start_time = self.now;
+                    }
+                }
+            }
+            StopAt::Time(t_stop) => {
+                while let Some((t, _)) = self.queue.peek() {
+                    if t > t_stop {
+                        break;
+                    }
+                    self.step();
+                    if self.counters.events >= window_end {
+                        self.stall_check(window_start_time)?;
+                        window_end += window;
+                        window_start_time = self.now;
+                    }
+                }
+                if t_stop > self.now {
+                    self.now = t_stop;
+                    self.synchronised = false;
+                }
+            }
+        }
+        Ok(())
     }
+
     fn snapshot(&mut self) -> Snapshot {
-        todo!()
+        self.rebuild();
+        self.synchronised = true;
+        let k_over_4 = self.params.inertia_factor / 4.0; // I = K m d^2 / 4
+        let translational_energy = self
+            .kin
+            .iter()
+            .map(|k| 0.5 * dot(k.velocity, k.velocity))
+            .sum();
+        let rotational_energy = self
+            .angular
+            .iter()
+            .map(|w| 0.5 * k_over_4 * dot(*w, *w))
+            .sum();
+        Snapshot {
+            time: self.now,
+            collisions_per_particle: self.collisions_per_particle(),
+            geometry: self.params.geometry,
+            inertia_factor: self.params.inertia_factor,
+            gravity: self.params.gravity,
+            positions: self.kin.iter().map(|k| k.position).collect(),
+            velocities: self.kin.iter().map(|k| k.velocity).collect(),
+            angular_velocities: self.angular.clone(),
+            counters: self.counters,
+            translational_energy,
+            rotational_energy,
+            wall_momentum: self.wall_momentum,
+            energy_dissipated: self.dissipated,
+            gravity_work: self.gravity_work,
+        }
     }
+
     fn checkpoint(&self) -> Vec<u8> {
-        todo!()
+        assert!(
+            self.synchronised,
+            "a checkpoint is only taken directly after a snapshot"
+        );
+        checkpoint::encode(&self.state())
     }
+}
+
+#[inline(always)]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }

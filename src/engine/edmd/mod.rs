@@ -1,9 +1,21 @@
 //! Event-driven molecular dynamics (EDMD) of rough inelastic hard spheres in a
 //! gravity-driven channel (Malik 2008 thesis, ch. 2).
+//!
+//! - [`collision`]: the pure collision rules (what happens).
+//! - [`motion`]: free flight under gravity and meeting times (when it happens).
+//! - [`cells`], [`queue`]: the fast data structures (with a reference queue for tests).
+//! - [`setup`]: placement and initial velocities; [`checkpoint`]: the file format.
+//! - [`EdmdEngine`]: the event loop; [`reference`]: a slow all-pairs engine for tests.
 
-mod params;
-
-pub use params::{EdmdParams, Placement};
+pub mod cells;
+pub mod checkpoint;
+pub mod collision;
 mod engine;
+pub mod motion;
+mod params;
+pub mod queue;
+pub mod reference;
+pub mod setup;
 
-pub use engine::EdmdEngine;
+pub use engine::{EdmdEngine, PhysicalEvent};
+pub use params::{EdmdParams, Placement, particles_for_volume_fraction};

@@ -36,7 +36,10 @@ pub struct ReferenceQueue {
 
 impl ReferenceQueue {
     pub fn new(particles: usize) -> Self {
-        ReferenceQueue { set: BTreeSet::new(), time_of: vec![None; particles] }
+        ReferenceQueue {
+            set: BTreeSet::new(),
+            time_of: vec![None; particles],
+        }
     }
 }
 
@@ -54,7 +57,9 @@ impl EventQueue for ReferenceQueue {
         }
     }
     fn peek(&mut self) -> Option<(f64, u32)> {
-        self.set.first().map(|&(bits, id)| (f64::from_bits(bits), id))
+        self.set
+            .first()
+            .map(|&(bits, id)| (f64::from_bits(bits), id))
     }
     fn pop(&mut self) -> Option<(f64, u32)> {
         let (bits, id) = self.set.pop_first()?;
@@ -123,6 +128,11 @@ impl CalendarQueue {
     /// Bucket width, in time.
     pub fn width(&self) -> f64 {
         self.width
+    }
+
+    /// Memory per particle, in bytes, assuming one bucket per particle.
+    pub fn bytes_per_particle(&self) -> usize {
+        8 + 4 * 6
     }
 
     #[inline(always)]
