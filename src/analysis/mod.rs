@@ -5,7 +5,7 @@
 //! the box). A job calls [`record_snapshot`] at every snapshot (the compact record is what a
 //! checkpoint keeps) and [`analyse_job`] once at the end.
 //!
-//! (API fixed here so that the job runner can be written against it; bodies to be filled in.)
+//! (Signatures fixed here so that the job runner can be written against them.)
 
 use crate::engine::Snapshot;
 use serde::{Deserialize, Serialize};
@@ -139,6 +139,35 @@ pub fn record_snapshot(snapshot: &Snapshot, _settings: &AnalysisSettings) -> Sna
 }
 
 /// Analyse a job's snapshot records (in order of simulated time).
-pub fn analyse_job(_records: &[SnapshotRecord], _settings: &AnalysisSettings) -> JobAnalysis {
-    todo!("analysis issue #3")
+///
+/// Interim version (until the classifier lands): the energy trace only, label "unclassified".
+pub fn analyse_job(records: &[SnapshotRecord], _settings: &AnalysisSettings) -> JobAnalysis {
+    let energy: Vec<EnergyRow> = records
+        .iter()
+        .map(|r| EnergyRow {
+            collisions_per_particle: r.collisions_per_particle,
+            time: r.time,
+            translational: r.translational_energy,
+            rotational: r.rotational_energy,
+        })
+        .collect();
+    let summary = Summary {
+        label: "unclassified".into(),
+        humps: 0,
+        three_dimensional: false,
+        steady: false,
+        steady_start: f64::NAN,
+        steady_end: f64::NAN,
+        steady_snapshots: 0,
+        power_transverse: f64::NAN,
+        power_along_flow: f64::NAN,
+        power_antisymmetric: f64::NAN,
+        power_symmetric_rest: f64::NAN,
+        power_spanwise: f64::NAN,
+        noise_level: f64::NAN,
+        mean_translational_energy: f64::NAN,
+        mean_rotational_energy: f64::NAN,
+        slip_velocity: f64::NAN,
+    };
+    JobAnalysis { summary, spectra: Vec::new(), profiles: Vec::new(), energy, evolution: Vec::new() }
 }
