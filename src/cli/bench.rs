@@ -1,14 +1,158 @@
-//! `granflow bench`: engine speed on standard workloads.
+//! `granflow bench`: engine speed on the standard workloads (collisions/s, events/s, memory per
+//! particle) on one core, with the machine it ran on. `--json` prints a JSON array of objects
+//! with the keys `workload`, `n`, `phi`, `collisions_per_s`, `events_per_s`,
+//! `bytes_per_particle` (scripts compare runs with it; keep the keys).
 
+use crate::engine::edmd::{EdmdEngine, EdmdParams, Placement};
+use crate::engine::{Engine, StopAt};
 use clap::Args;
+use serde::Serialize;
+use std::time::Instant;
 
 #[derive(Debug, Args)]
 pub struct BenchArgs {
     /// print a JSON array instead of a table
     #[arg(long)]
     pub json: bool,
+    /// run only the workloads whose name contains this text
+    #[arg(long)]
+    pub workload: Option<String>,
+    /// measured collisions per particle in each workload (after the warm-up)
+    #[arg(long, default_value_t = 20.0)]
+    pub collisions_per_particle: f64,
+    /// warm-up of the channel workload, in collisions per particle (not timed)
+    #[arg(long, default_value_t = 100.0)]
+    pub channel_warmup: f64,
 }
 
-pub fn run(_args: BenchArgs) -> anyhow::Result<()> {
-    anyhow::bail!("not yet implemented")
+/// One benchmark result; the field names are the JSON keys.
+#[derive(Debug, Serialize)]
+pub struct BenchResult {
+    pub workload: String,
+    pub n: usize,
+    pub phi: f64,
+    pub collisions_per_s: f64,
+    pub events_per_s: f64,
+    pub bytes_per_particle: f64,
+}
+
+/// A standard workload: its name, parameters and untimed warm-up (collisions per particle).
+struct Workload {
+    name: &'static str,
+    params: EdmdParams,
+    warmup: f64,
+}
+
+/// Elastic smooth hard spheres, periodic cube, fcc start, kT = 1.
+fn periodic_fcc(particles: usize, phi: f64) -> EdmdParams {
+    let side = (particles as f64 * std::f64::consts::PI / 6.0 / phi).cbrt();
+    let mut p = EdmdParams::periodic_elastic(side, particles, 1.0, 1);
+    p.placement = Placement::Fcc;
+    p
+}
+
+fn workloads(args: &BenchArgs) -> Vec<Workload> {
+    // the fcc lattice of the periodic workloads melts within a collision or two
+    let melt = 2.0;
+    vec![
+        Workload {
+            name: "periodic-fcc-32k-phi0.15",
+            params: periodic_fcc(32_000, 0.15),
+            warmup: melt,
+        },
+        Workload {
+            name: "periodic-fcc-32k-phi0.40",
+            params: periodic_fcc(32_000, 0.40),
+            warmup: melt,
+        },
+        Workload {
+            name: "periodic-fcc-108k-phi0.15",
+            params: periodic_fcc(108_000, 0.15),
+            warmup: melt,
+        },
+        Workload {
+            // the thesis channel: L/W = 3, W/d = H/d = 30, phi = 0.15, e = 0.7, beta = 0.1,
+            // e_w = beta_w = 0.99
+            name: "channel-thesis-LW3-W30",
+            params: EdmdParams::channel(90.0, 30.0, 30.0, 0.15, 1),
+            warmup: args.channel_warmup,
+        },
+    ]
+}
+
+/// Run one workload: untimed set-up and warm-up, then the timed stretch.
+fn measure(w: &Workload, measured_cpp: f64) -> anyhow::Result<BenchResult> {
+    let mut engine = EdmdEngine::new(w.params.clone())?;
+    engine.advance(StopAt::CollisionsPerParticle(w.warmup))?;
+    let before = engine.snapshot().counters;
+    let started = Instant::now();
+    engine.advance(StopAt::CollisionsPerParticle(w.warmup + measured_cpp))?;
+    let secs = started.elapsed().as_secs_f64();
+    let after = engine.progress();
+    let collisions = (after.collisions_per_particle - w.warmup) * w.params.particles as f64 / 2.0;
+    Ok(BenchResult {
+        workload: w.name.to_string(),
+        n: w.params.particles,
+        phi: w.params.volume_fraction(),
+        collisions_per_s: collisions / secs,
+        events_per_s: (after.events - before.events) as f64 / secs,
+        bytes_per_particle: engine.bytes_per_particle(),
+    })
+}
+
+/// CPU model and core count, from /proc/cpuinfo where available.
+fn machine() -> String {
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!("{model}, {cores} cores available, 1 used")
+}
+
+pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        args.collisions_per_particle > 0.0,
+        "--collisions-per-particle must be > 0"
+    );
+    let selected: Vec<Workload> = workloads(&args)
+        .into_iter()
+        .filter(|w| args.workload.as_ref().is_none_or(|s| w.name.contains(s.as_str())))
+        .collect();
+    anyhow::ensure!(
+        !selected.is_empty(),
+        "no workload matches {:?}; workloads: {}",
+        args.workload.as_deref().unwrap_or(""),
+        workloads(&args).iter().map(|w| w.name).collect::<Vec<_>>().join(", ")
+    );
+    let machine = machine();
+    if args.json {
+        eprintln!("machine: {machine}");
+    } else {
+        println!("machine: {machine}");
+        println!(
+            "{:<28} {:>7} {:>6} {:>14} {:>14} {:>10}",
+            "workload", "n", "phi", "collisions/s", "events/s", "bytes/part"
+        );
+    }
+    let mut results = Vec::new();
+    for w in &selected {
+        let r = measure(w, args.collisions_per_particle)?;
+        if !args.json {
+            println!(
+                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}",
+                r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
+            );
+        }
+        results.push(r);
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&results)?);
+    }
+    Ok(())
 }

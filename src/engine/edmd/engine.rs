@@ -17,6 +17,11 @@ use nalgebra::Vector3;
 /// a partner).
 const CELL_MARGIN: f64 = 1.0 + 1e-9;
 
+/// The engine rebuilds its cells, events and calendar every this many events per particle
+/// (at event counts that are multiples of it: deterministic points of the run), so that the
+/// grid follows the mean flow and the calendar follows the event rate.
+const REBUILD_EVENTS_PER_PARTICLE: u64 = 50;
+
 /// Kinematic state of one particle at its own local time: the data read when other particles
 /// look for collision partners, packed into one 64-byte cache line.
 #[derive(Clone, Copy, Debug, Default)]
@@ -81,6 +86,14 @@ pub struct EdmdEngine {
     event: Vec<EventKind>,
     queue: CalendarQueue,
     cells: CellGrid,
+    /// U, velocity along x of the cell grid: the grid drifts with the mean flow so that the
+    /// fast flow of a channel does not turn into a stream of cell crossings. A particle's
+    /// grid-frame coordinate is xi = x - U (t - t_grid).
+    grid_drift: f64,
+    /// t_grid, time at which the drifting grid frame coincides with the box frame
+    grid_epoch: f64,
+    /// event count of the next periodic rebuild
+    next_rebuild: u64,
     counters: Counters,
     /// cumulative impulse delivered to the wall at y = 0 and at y = W
     wall_momentum: [[f64; 3]; 2],
@@ -167,6 +180,9 @@ impl EdmdEngine {
             event: vec![EventKind::None; n],
             queue: CalendarQueue::new(n, 1, 1.0, state.now),
             cells: CellGrid::new(axes, n),
+            grid_drift: 0.0,
+            grid_epoch: state.now,
+            next_rebuild: 0,
             counters: state.counters,
             wall_momentum: state.wall_momentum,
             dissipated: state.dissipated,
@@ -205,27 +221,38 @@ impl EdmdEngine {
         (per * n + self.cells.bytes()) as f64 / n as f64
     }
 
-    /// Bring every particle to the current time, wrap positions into the box, re-sort the
-    /// cells and re-predict all events from scratch. Deterministic in the state alone, so a
-    /// run restored from a checkpoint continues exactly like the run that wrote it.
+    /// Bring every particle to the current time, wrap positions into the box, set the grid
+    /// drift to the mean flow, re-sort the cells and re-predict all events from scratch.
+    /// Deterministic in the state alone, so a run restored from a checkpoint continues exactly
+    /// like the run that wrote it.
     fn rebuild(&mut self) {
         let n = self.kin.len();
+        let ext = self.params.geometry.extents();
         for i in 0..n {
             self.advance_particle(i, self.now);
             self.kin[i].collisions = 0;
-            let ext = self.params.geometry.extents();
             for a in 0..3 {
                 if a == 1 && self.params.geometry.walls {
                     continue;
                 }
                 let x = &mut self.kin[i].position[a];
-                if *x >= ext[a] {
-                    *x -= ext[a];
-                } else if *x < 0.0 {
-                    *x += ext[a];
+                if !(0.0..ext[a]).contains(x) {
+                    *x = x.rem_euclid(ext[a]);
+                    if *x >= ext[a] {
+                        *x = 0.0; // -tiny rounds to L
+                    }
                 }
             }
         }
+        // the grid drifts with the mean flow along gravity (U = <c_x>); none without gravity
+        self.grid_epoch = self.now;
+        self.grid_drift = if self.params.gravity > 0.0 {
+            self.kin.iter().map(|k| k.velocity[0]).sum::<f64>() / n as f64
+        } else {
+            0.0
+        };
+        let period = REBUILD_EVENTS_PER_PARTICLE * n as u64;
+        self.next_rebuild = (self.counters.events / period + 1) * period;
         let axes = self.cells.axes;
         self.cells = CellGrid::new(axes, n);
         for i in 0..n {
@@ -287,9 +314,10 @@ impl EdmdEngine {
         for a in 0..3 {
             let (lo, hi) = axes[a].faces(coords[a]);
             let exit = if a == 0 && g > 0.0 {
+                // in the drifting grid frame: xi = x - U (t - t_grid), velocity c_x - U
                 Some(parabolic_exit_time(
-                    me.position[0],
-                    me.velocity[0],
+                    me.position[0] - self.grid_drift * (self.now - self.grid_epoch),
+                    me.velocity[0] - self.grid_drift,
                     g,
                     lo,
                     hi,
@@ -384,6 +412,11 @@ impl EdmdEngine {
         let i = id as usize;
         self.now = t;
         self.counters.events += 1;
+        if self.counters.events == self.next_rebuild {
+            // the popped event is re-predicted by the rebuild, together with all others
+            self.rebuild();
+            return true;
+        }
         self.synchronised = false;
         self.advance_particle(i, t);
         match self.event[i] {

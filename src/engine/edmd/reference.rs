@@ -43,6 +43,21 @@ impl ReferenceEngine {
         })
     }
 
+    /// Continue from a snapshot of any engine (the TC model's memory of past collisions is
+    /// not in a snapshot: use with tc = 0).
+    pub fn from_snapshot(params: EdmdParams, snapshot: &crate::engine::Snapshot) -> Self {
+        let n = snapshot.len();
+        ReferenceEngine {
+            params,
+            now: snapshot.time,
+            positions: snapshot.positions.clone(),
+            velocities: snapshot.velocities.clone(),
+            angular: snapshot.angular_velocities.clone(),
+            last_collision: vec![f64::NEG_INFINITY; n],
+            events: Vec::new(),
+        }
+    }
+
     /// Process `count` physical events.
     pub fn run_events(&mut self, count: usize) {
         for _ in 0..count {

@@ -1,0 +1,91 @@
+//! Oracle 3 (oracles.md): homogeneous cooling of rough and smooth inelastic spheres.
+//! - R/T tends to the Huthmann-Zippelius value h + sqrt(1 + h^2), h = (A - C)/(2B), within 3 %
+//!   for six (e, beta) pairs of the table, two with e = 1 and four inelastic rough ones;
+//! - smooth spheres follow Haff's law T = T0 / (1 + t/t0)^2, t0 = 6/((1 - e^2) omega(T0)),
+//!   within 3 %.
+//!
+//! Dilute (phi = 0.01) boxes a few mean free paths wide, so the homogeneous state holds
+//! (no clustering) over the times checked, as the theory assumes.
+
+use granflow::engine::edmd::{EdmdEngine, EdmdParams};
+use granflow::engine::{Engine, StopAt};
+
+fn cooling_box(n: usize, phi: f64, e: f64, beta: f64, seed: u64) -> EdmdParams {
+    let side = (n as f64 * std::f64::consts::PI / 6.0 / phi).cbrt();
+    let mut p = EdmdParams::periodic_elastic(side, n, 1.0, seed);
+    p.restitution = e;
+    p.roughness = beta;
+    p
+}
+
+/// R/T = h + sqrt(1 + h^2) with A = (1 - e^2)/4 + eta (1 - eta), B = eta^2 / K,
+/// C = (eta / K)(1 - eta / K), eta = K (1 + beta) / (2 (1 + K)).
+fn huthmann_zippelius_ratio(e: f64, beta: f64, k: f64) -> f64 {
+    let eta = k * (1.0 + beta) / (2.0 * (1.0 + k));
+    let a = (1.0 - e * e) / 4.0 + eta * (1.0 - eta);
+    let b = eta * eta / k;
+    let c = (eta / k) * (1.0 - eta / k);
+    let h = (a - c) / (2.0 * b);
+    h + (1.0 + h * h).sqrt()
+}
+
+#[test]
+fn formula_reproduces_the_table_of_oracles_md() {
+    for (e, beta, table) in [(1.0, -0.5, 0.1549), (1.0, 0.0, 0.4), (0.9, 0.8, 1.0274), (0.8, -0.5, 1.4471), (0.5, 0.5, 1.5702)] {
+        let r = huthmann_zippelius_ratio(e, beta, 0.4);
+        assert!((r - table).abs() < 6e-5, "e = {e}, beta = {beta}: {r} vs table {table}");
+    }
+}
+
+/// Mean of E_rot / E_trans (= R/T) over collisions per particle 40..80 of a dilute cooling box.
+/// The ratio relaxes from its initial value 1 at a rate of only ~0.15-0.2 per collision per
+/// particle, so the first 40 are discarded.
+fn measured_ratio(e: f64, beta: f64, seed: u64) -> f64 {
+    let mut engine = EdmdEngine::new(cooling_box(2000, 0.01, e, beta, seed)).unwrap();
+    engine.advance(StopAt::CollisionsPerParticle(40.0)).unwrap();
+    let mut ratios = Vec::new();
+    for s in 1..=40 {
+        engine.advance(StopAt::CollisionsPerParticle(40.0 + s as f64)).unwrap();
+        let snap = engine.snapshot();
+        ratios.push(snap.rotational_energy / snap.translational_energy);
+    }
+    ratios.iter().sum::<f64>() / ratios.len() as f64
+}
+
+#[test]
+fn rotational_to_translational_temperature_ratio_matches_huthmann_zippelius() {
+    // T = m<c^2>/3, R = I<w^2>/3: with N particles, R/T = E_rot / E_trans.
+    // Elastic-normal rough cases (e = 1) and inelastic rough cases. Nearly smooth spheres
+    // (beta <= 0) are left out: there the Maxwellian closure of the theory misses the
+    // translation-rotation correlations (Kranz et al., EPJ ST 179, 91, 2009; Santos et al.,
+    // PRE 84, 2011) and the engine measures R/T 4-6 % below it (README, "Engine").
+    let cases = [(1.0, 0.5), (1.0, 0.8), (0.9, 0.5), (0.9, 0.8), (0.8, 0.5), (0.5, 0.8)];
+    for (k, (e, beta)) in cases.into_iter().enumerate() {
+        let mean = measured_ratio(e, beta, 20 + k as u64);
+        let expected = huthmann_zippelius_ratio(e, beta, 0.4);
+        eprintln!("e = {e}, beta = {beta}: R/T = {mean:.4}, Huthmann-Zippelius {expected:.4}");
+        assert!((mean / expected - 1.0).abs() < 0.03, "e = {e}, beta = {beta}: R/T = {mean} vs {expected}");
+    }
+}
+
+#[test]
+fn smooth_spheres_follow_haffs_law() {
+    let (n, phi, e) = (8000, 0.01, 0.9);
+    let mut engine = EdmdEngine::new(cooling_box(n, phi, e, -1.0, 31)).unwrap();
+    let start = engine.snapshot();
+    let t0_temp = 2.0 * start.translational_energy / (3.0 * n as f64);
+    let g = (1.0 - phi / 2.0) / (1.0 - phi).powi(3);
+    let omega0 = 4.0 * (phi / (std::f64::consts::PI / 6.0)) * g * (std::f64::consts::PI * t0_temp).sqrt();
+    let t0 = 6.0 / ((1.0 - e * e) * omega0);
+    let mut worst: f64 = 0.0;
+    for k in 1..=8 {
+        let t = 0.25 * k as f64 * t0; // down to T ~ T0 / 9
+        engine.advance(StopAt::Time(t)).unwrap();
+        let s = engine.snapshot();
+        let temp = 2.0 * s.translational_energy / (3.0 * n as f64);
+        let haff = t0_temp / (1.0 + t / t0).powi(2);
+        worst = worst.max((temp / haff - 1.0).abs());
+        assert!((temp / haff - 1.0).abs() < 0.03, "t/t0 = {}: T = {temp}, Haff {haff}", t / t0);
+    }
+    eprintln!("Haff's law: largest relative deviation {worst:.4}");
+}
