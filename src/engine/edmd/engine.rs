@@ -54,6 +54,28 @@ pub(crate) enum EventKind {
     Wall { upper: bool },
 }
 
+/// The earliest pair collision found by a particle's last full neighbour search (kept while
+/// the particle only crosses cells, so that a crossing needs to search only the new cells).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PairCandidate {
+    /// absolute time of the contact (infinite: none)
+    pub time: f64,
+    /// partner, or NO_PARTNER
+    pub partner: u32,
+    /// partner's collision counter when the candidate was found
+    pub partner_collisions: u32,
+}
+
+const NO_PARTNER: u32 = u32::MAX;
+
+impl PairCandidate {
+    const NONE: PairCandidate = PairCandidate {
+        time: f64::INFINITY,
+        partner: NO_PARTNER,
+        partner_collisions: 0,
+    };
+}
+
 /// A physical event as processed (for tests that compare engines event by event).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PhysicalEvent {
@@ -84,6 +106,8 @@ pub struct EdmdEngine {
     /// time of each particle's last collision (pair or wall), for the TC model
     last_collision: Vec<f64>,
     event: Vec<EventKind>,
+    /// earliest pair collision of each particle's last full neighbour search
+    candidate: Vec<PairCandidate>,
     queue: CalendarQueue,
     cells: CellGrid,
     /// U, velocity along x of the cell grid: the grid drifts with the mean flow so that the
@@ -178,6 +202,7 @@ impl EdmdEngine {
             angular: state.angular_velocities,
             last_collision: state.last_collision,
             event: vec![EventKind::None; n],
+            candidate: vec![PairCandidate::NONE; n],
             queue: CalendarQueue::new(n, 1, 1.0, state.now),
             cells: CellGrid::new(axes, n),
             grid_drift: 0.0,
@@ -217,6 +242,7 @@ impl EdmdEngine {
             + std::mem::size_of::<[f64; 3]>()
             + std::mem::size_of::<f64>()
             + std::mem::size_of::<EventKind>()
+            + std::mem::size_of::<PairCandidate>()
             + self.queue.bytes_per_particle();
         (per * n + self.cells.bytes()) as f64 / n as f64
     }
@@ -297,18 +323,79 @@ impl EdmdEngine {
         }
     }
 
-    /// Earliest event of particle `i` (whose state is at `now`): leaving its cell, hitting a
-    /// wall, or colliding with a sphere in its own or an adjacent cell. Stores the event kind
-    /// and returns its time (infinite when nothing can happen).
+    /// Earliest event of particle `i` (whose state is at `now`) after a full search: leaving its
+    /// cell, hitting a wall, or colliding with a sphere in its own or an adjacent cell. Stores
+    /// the earliest pair collision as the particle's candidate (whatever its time) and the
+    /// earliest event as its event; returns the event time (infinite when nothing can happen).
     fn predict(&mut self, i: usize) -> f64 {
-        let me = self.kin[i];
-        debug_assert_eq!(me.time, self.now);
-        let g = self.params.gravity;
-        let cell = self.cells.cell_of(i as u32);
-        let coords = self.cells.coords(cell);
-        let axes = &self.cells.axes;
+        let coords = self.cells.coords(self.cells.cell_of(i as u32));
+        let mut layers = [[None; 3]; 3];
+        for a in 0..3 {
+            for (k, dc) in [-1, 0, 1].into_iter().enumerate() {
+                layers[a][k] = self.cells.axes[a].neighbour(coords[a], dc);
+            }
+        }
+        self.candidate[i] = self.scan_cells(i, &layers, f64::INFINITY);
+        self.choose_event(i)
+    }
 
-        // leaving the cell (the outer faces of the edge cells along a wall axis are the walls)
+    /// Event of particle `i` right after it crossed into a new cell along `axis`: its velocity
+    /// is unchanged, so the pair candidate of its last full search still holds if the partner
+    /// has not collided since; only the layer of cells that just became adjacent is searched.
+    fn predict_after_crossing(&mut self, i: usize, axis: usize, upper: bool) -> f64 {
+        let candidate = self.candidate[i];
+        let still_valid = match candidate.partner {
+            NO_PARTNER => true,
+            j => self.kin[j as usize].collisions == candidate.partner_collisions,
+        };
+        if !still_valid {
+            return self.predict(i);
+        }
+        let coords = self.cells.coords(self.cells.cell_of(i as u32));
+        let mut layers = [[None; 3]; 3];
+        for a in 0..3 {
+            if a == axis {
+                layers[a][0] = self.cells.axes[a].neighbour(coords[a], if upper { 1 } else { -1 });
+            } else {
+                for (k, dc) in [-1, 0, 1].into_iter().enumerate() {
+                    layers[a][k] = self.cells.axes[a].neighbour(coords[a], dc);
+                }
+            }
+        }
+        let found = self.scan_cells(i, &layers, candidate.time);
+        if found.time < candidate.time {
+            self.candidate[i] = found;
+        }
+        self.choose_event(i)
+    }
+
+    /// The earlier of particle `i`'s cell exit (or wall hit) and its pair candidate: stored as
+    /// its event, time returned.
+    fn choose_event(&mut self, i: usize) -> f64 {
+        let (exit_time, exit_kind) = self.exit_event(i);
+        let candidate = self.candidate[i];
+        let (time, kind) = if candidate.time <= exit_time && candidate.partner != NO_PARTNER {
+            (
+                candidate.time,
+                EventKind::Pair {
+                    partner: candidate.partner,
+                    partner_collisions: candidate.partner_collisions,
+                },
+            )
+        } else {
+            (exit_time, exit_kind)
+        };
+        self.event[i] = kind;
+        time
+    }
+
+    /// When and how particle `i` (at `now`) leaves its cell; the outer faces of the edge cells
+    /// along a wall axis are the walls. Along x the faces move with the drifting grid.
+    fn exit_event(&self, i: usize) -> (f64, EventKind) {
+        let me = &self.kin[i];
+        let g = self.params.gravity;
+        let coords = self.cells.coords(self.cells.cell_of(i as u32));
+        let axes = &self.cells.axes;
         let mut best = f64::INFINITY;
         let mut kind = EventKind::None;
         for a in 0..3 {
@@ -345,20 +432,24 @@ impl EdmdEngine {
                 }
             }
         }
+        (self.now + best, kind)
+    }
 
-        // collisions with spheres in the 27 cells around
-        for dz in -1..=1 {
-            let Some((cz, sz)) = axes[2].neighbour(coords[2], dz) else {
-                continue;
-            };
-            for dy in -1..=1 {
-                let Some((cy, sy)) = axes[1].neighbour(coords[1], dy) else {
-                    continue;
-                };
-                for dx in -1..=1 {
-                    let Some((cx, sx)) = axes[0].neighbour(coords[0], dx) else {
-                        continue;
-                    };
+    /// Earliest collision of particle `i` (at `now`) before `horizon` with a sphere in the
+    /// cells given per axis as (cell, periodic shift) options: `layers[axis][k]`.
+    fn scan_cells(
+        &self,
+        i: usize,
+        layers: &[[Option<(usize, f64)>; 3]; 3],
+        horizon: f64,
+    ) -> PairCandidate {
+        let me = &self.kin[i];
+        let g = self.params.gravity;
+        let mut best = PairCandidate::NONE;
+        let mut best_dt = horizon - self.now;
+        for &(cz, sz) in layers[2].iter().flatten() {
+            for &(cy, sy) in layers[1].iter().flatten() {
+                for &(cx, sx) in layers[0].iter().flatten() {
                     let ncell = self.cells.index([cx, cy, cz]);
                     for &j in self.cells.members(ncell) {
                         if j as usize == i {
@@ -366,8 +457,7 @@ impl EdmdEngine {
                         }
                         let other = &self.kin[j as usize];
                         // partner brought to `now` on the fly (its stored state is not touched)
-                        let dt = self.now - other.time;
-                        let (rj, cj) = fly(other.position, other.velocity, g, dt);
+                        let (rj, cj) = fly(other.position, other.velocity, g, self.now - other.time);
                         let r = [
                             me.position[0] - (rj[0] + sx),
                             me.position[1] - (rj[1] + sy),
@@ -378,9 +468,10 @@ impl EdmdEngine {
                             me.velocity[1] - cj[1],
                             me.velocity[2] - cj[2],
                         ];
-                        if let Some(t) = pair_contact_time_before(r, v, best) {
-                            best = t;
-                            kind = EventKind::Pair {
+                        if let Some(dt) = pair_contact_time_before(r, v, best_dt) {
+                            best_dt = dt;
+                            best = PairCandidate {
+                                time: self.now + dt,
                                 partner: j,
                                 partner_collisions: other.collisions,
                             };
@@ -389,14 +480,18 @@ impl EdmdEngine {
                 }
             }
         }
-        self.event[i] = kind;
-        self.now + best
+        best
     }
 
     /// Predict and schedule the next event of particle `i`.
     #[inline]
     fn reschedule(&mut self, i: usize) {
         let t = self.predict(i);
+        self.schedule(i, t);
+    }
+
+    #[inline]
+    fn schedule(&mut self, i: usize, t: f64) {
         if t.is_finite() {
             self.queue.schedule(i as u32, t);
         } else {
@@ -436,7 +531,8 @@ impl EdmdEngine {
             }
             EventKind::Cross { axis, upper } => {
                 self.cross_cell(i, axis as usize, upper);
-                self.reschedule(i);
+                let t = self.predict_after_crossing(i, axis as usize, upper);
+                self.schedule(i, t);
             }
             EventKind::Wall { upper } => {
                 self.collide_wall(i, upper);
