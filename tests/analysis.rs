@@ -623,6 +623,47 @@ fn omega_sd_of(theta: f64) -> f64 {
     (theta / 0.1).sqrt()
 }
 
+#[test]
+fn records_round_trip_through_checkpoint_encodings_and_settings_are_checked() {
+    let g = test_box();
+    let mut rng = Pcg64::seed_from_u64(8);
+    let settings = AnalysisSettings::default();
+    assert!(settings.validate().is_ok());
+    let r = record_snapshot(
+        &snapshot(g, sample(&g, 500, &band(g, 1), &mut rng), 3.0),
+        &settings,
+    );
+    let bytes = postcard::to_stdvec(&r).unwrap();
+    assert_eq!(postcard::from_bytes::<SnapshotRecord>(&bytes).unwrap(), r);
+    let json = serde_json::to_string(&r).unwrap();
+    assert_eq!(serde_json::from_str::<SnapshotRecord>(&json).unwrap(), r);
+    assert_eq!(r.counts_xy.iter().map(|&c| c as usize).sum::<usize>(), 500);
+    assert_eq!(
+        r.profile.iter().map(|b| b.count as usize).sum::<usize>(),
+        500
+    );
+    for bad in [
+        AnalysisSettings {
+            grid: Some([0, 4, 4]),
+            ..settings.clone()
+        },
+        AnalysisSettings {
+            profile_bins: 0,
+            ..settings.clone()
+        },
+        AnalysisSettings {
+            cell_particles: f64::NAN,
+            ..settings.clone()
+        },
+        AnalysisSettings {
+            min_steady_snapshots: 1,
+            ..settings.clone()
+        },
+    ] {
+        assert!(bad.validate().is_err(), "{bad:?}");
+    }
+}
+
 // ---------- snapshot files ----------
 
 #[test]

@@ -53,6 +53,38 @@ impl Default for AnalysisSettings {
     }
 }
 
+impl AnalysisSettings {
+    /// Check the settings; the message names the key, its value and what is allowed.
+    pub fn validate(&self) -> Result<(), String> {
+        if let Some(g) = self.grid
+            && g.iter().any(|&k| k == 0 || k > 4096)
+        {
+            return Err(format!(
+                "analysis grid = {g:?} is out of range: allowed 1 to 4096 cells per axis"
+            ));
+        }
+        if self.profile_bins == 0 || self.profile_bins > 100_000 {
+            return Err(format!(
+                "analysis profile_bins = {} is out of range: allowed 1 to 100000",
+                self.profile_bins
+            ));
+        }
+        if !(self.cell_particles.is_finite() && self.cell_particles > 0.0) {
+            return Err(format!(
+                "analysis cell_particles = {} is out of range: allowed a finite value > 0",
+                self.cell_particles
+            ));
+        }
+        if self.min_steady_snapshots < 2 {
+            return Err(format!(
+                "analysis min_steady_snapshots = {} is out of range: allowed >= 2",
+                self.min_steady_snapshots
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// What one snapshot contributes to the analysis: compact, serialisable (kept in checkpoints).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SnapshotRecord {

@@ -118,6 +118,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
         );
         settings.grid = Some([g[0], g[1], g[2]]);
     }
+    settings.validate().map_err(anyhow::Error::msg)?;
     for dir in [&args.xyz, &args.vtk].into_iter().flatten() {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
