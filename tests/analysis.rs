@@ -619,6 +619,27 @@ fn profiles_recover_known_fields() {
     );
 }
 
+/// With bins narrower than d/2 the wall bins are empty; the slip velocity then comes from the
+/// outermost bins that hold centres.
+#[test]
+fn slip_velocity_uses_the_outermost_filled_bins() {
+    let g = channel(8.0, 8.0, 8.0);
+    let mut rng = Pcg64::seed_from_u64(12);
+    let settings = AnalysisSettings::default();
+    let pos = sample(&g, 4000, &|_, _, _| 1.0, &mut rng);
+    let mut snap = snapshot(g, pos.clone(), 10.0);
+    for (v, r) in snap.velocities.iter_mut().zip(&pos) {
+        v[0] = r[1];
+    }
+    let a = analyse_job(&[record_snapshot(&snap, &settings)], &settings);
+    // bins of width 0.32: centres in [0.5, 0.64] and [7.36, 7.5]; mean U_x 0.57 and 7.43
+    assert!(
+        (a.summary.slip_velocity - 4.0).abs() < 0.02,
+        "{}",
+        a.summary.slip_velocity
+    );
+}
+
 fn omega_sd_of(theta: f64) -> f64 {
     (theta / 0.1).sqrt()
 }

@@ -12,7 +12,8 @@
 //!
 //! Non-dimensionalised as in the thesis: u / sqrt(g d), omega / sqrt(g / d), T / (g d),
 //! theta / (g d) (with g = 0 the values are left in the simulation units).
-//! The slip velocity is the mean of U_x in the two bins next to the walls (thesis 3.3).
+//! The slip velocity is the mean of U_x in the two bins next to the walls (thesis 3.3); with
+//! bins narrower than d/2 these are the outermost bins that hold centres.
 
 use super::fields::{Grid, SPHERE_VOLUME, dist2};
 use super::{ProfileRow, SnapshotRecord};
@@ -149,9 +150,12 @@ pub fn profiles(records: &[&SnapshotRecord]) -> (Vec<ProfileRow>, f64) {
             .unwrap_or(usize::MAX)
     };
     rows.sort_by_key(|r| (order(&r.quantity), r.bin));
-    let slip = match ux.len() {
+    // the outermost bins that hold centres (with bins narrower than d/2 the outermost bins
+    // are empty, as centres stay d/2 away from the walls)
+    let filled: Vec<f64> = ux.iter().copied().filter(|u| u.is_finite()).collect();
+    let slip = match filled.len() {
         0 => f64::NAN,
-        _ => 0.5 * (ux[0] + ux[ux.len() - 1]),
+        k => 0.5 * (filled[0] + filled[k - 1]),
     };
     (rows, slip)
 }

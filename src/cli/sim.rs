@@ -61,7 +61,7 @@ pub struct SimArgs {
     pub vtk: Option<PathBuf>,
     /// coarse-graining grid for --analyse and --vtk, as N1,N2,N3 (default: about 4 particles
     /// per cell)
-    #[arg(long, value_name = "N1,N2,N3", value_delimiter = ',', num_args = 3)]
+    #[arg(long, value_name = "N1,N2,N3", value_delimiter = ',')]
     pub grid: Option<Vec<usize>>,
 }
 
