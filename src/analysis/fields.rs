@@ -39,12 +39,19 @@ impl Grid {
         };
         let extent = [l, wy, h];
         let n = match settings.grid {
-            Some(n) => n.map(|k| k.max(1)),
+            Some(n) => n.map(|k| k.clamp(1, MAX_CELLS)),
             None => {
                 let volume = l * wy * h;
                 let density = particles.max(1) as f64 / volume;
-                let edge = (settings.cell_particles.max(1e-9) / density).cbrt();
-                extent.map(|e| ((e / edge).round() as usize).max(MIN_CELLS))
+                let edge = (settings.cell_particles / density).cbrt();
+                extent.map(|e| {
+                    let k = (e / edge).round();
+                    if k.is_finite() {
+                        (k as usize).clamp(MIN_CELLS, MAX_CELLS)
+                    } else {
+                        MIN_CELLS
+                    }
+                })
             }
         };
         Grid {
@@ -96,6 +103,9 @@ impl Grid {
 
 /// Fewest cells per axis of a default grid.
 pub const MIN_CELLS: usize = 4;
+
+/// Most cells per axis of any grid (guards against degenerate boxes and settings).
+pub const MAX_CELLS: usize = 4096;
 
 /// Number of particle centres in each cell (linear index [`Grid::linear`]).
 pub fn cell_counts(positions: &[[f64; 3]], grid: &Grid) -> Vec<u32> {
