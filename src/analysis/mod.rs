@@ -5,10 +5,27 @@
 //! the box). A job calls [`record_snapshot`] at every snapshot (the compact record is what a
 //! checkpoint keeps) and [`analyse_job`] once at the end.
 //!
-//! (Signatures fixed here so that the job runner can be written against them.)
+//! Modules: [`fields`] (grid and cellwise averages), [`spectrum`] (2D FFT power spectra),
+//! [`profiles`] (binwise profiles across the channel), [`steady`] (steady-state detector),
+//! [`classify`] (family decomposition vs shot noise, labels), [`snapshot_io`] (XYZ and VTK
+//! files). The definitions, defaults and thresholds are documented in README.md, section
+//! "Analysis and structure classifier".
+
+pub mod classify;
+pub mod fields;
+pub mod profiles;
+pub mod snapshot_io;
+pub mod spectrum;
+pub mod steady;
+
+pub use profiles::BinSums;
+pub use snapshot_io::{write_vtk_density, write_xyz};
 
 use crate::engine::Snapshot;
+use classify::{FamilyPowers, assess, family_powers, noise_per_mode};
+use fields::{Grid, SPHERE_VOLUME, cell_counts, plane_counts};
 use serde::{Deserialize, Serialize};
+use spectrum::{fold, folded_shape, multiplicity, power_2d};
 
 /// Analysis settings of a sweep or job (all have documented defaults).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -19,6 +36,10 @@ pub struct AnalysisSettings {
     pub grid: Option<[usize; 3]>,
     /// number of bins across the channel for profiles (thesis: 25)
     pub profile_bins: usize,
+    /// mean number of particle centres per cell of the default grid (used when `grid` is None)
+    pub cell_particles: f64,
+    /// fewest snapshots in a steady window (fewer: the run counts as not steady)
+    pub min_steady_snapshots: usize,
 }
 
 impl Default for AnalysisSettings {
@@ -26,7 +47,41 @@ impl Default for AnalysisSettings {
         AnalysisSettings {
             grid: None,
             profile_bins: 25,
+            cell_particles: 4.0,
+            min_steady_snapshots: 4,
         }
+    }
+}
+
+impl AnalysisSettings {
+    /// Check the settings; the message names the key, its value and what is allowed.
+    pub fn validate(&self) -> Result<(), String> {
+        if let Some(g) = self.grid
+            && g.iter().any(|&k| k == 0 || k > 4096)
+        {
+            return Err(format!(
+                "analysis grid = {g:?} is out of range: allowed 1 to 4096 cells per axis"
+            ));
+        }
+        if self.profile_bins == 0 || self.profile_bins > 100_000 {
+            return Err(format!(
+                "analysis profile_bins = {} is out of range: allowed 1 to 100000",
+                self.profile_bins
+            ));
+        }
+        if !(self.cell_particles.is_finite() && self.cell_particles > 0.0) {
+            return Err(format!(
+                "analysis cell_particles = {} is out of range: allowed a finite value > 0",
+                self.cell_particles
+            ));
+        }
+        if self.min_steady_snapshots < 2 {
+            return Err(format!(
+                "analysis min_steady_snapshots = {} is out of range: allowed >= 2",
+                self.min_steady_snapshots
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -41,6 +96,36 @@ pub struct SnapshotRecord {
     pub translational_energy: f64,
     /// rotational kinetic energy per particle
     pub rotational_energy: f64,
+    /// N, number of particles
+    #[serde(default)]
+    pub particles: u64,
+    /// box extents [L, W, H]
+    #[serde(default)]
+    pub box_extent: [f64; 3],
+    /// g of the snapshot (scales the profiles)
+    #[serde(default)]
+    pub gravity: f64,
+    /// K = 4 I / (m d^2)
+    #[serde(default)]
+    pub inertia_factor: f64,
+    /// coarse-graining grid N1 x N2 x N3
+    #[serde(default)]
+    pub grid: [u32; 3],
+    /// volume of the gridded region (the region open to particle centres)
+    #[serde(default)]
+    pub grid_volume: f64,
+    /// centres per column of the xy plane (summed over z), index i N2 + j
+    #[serde(default)]
+    pub counts_xy: Vec<u32>,
+    /// centres per column of the xz plane (summed over y), index i N3 + k
+    #[serde(default)]
+    pub counts_xz: Vec<u32>,
+    /// centres per column of the yz plane (summed over x), index j N3 + k
+    #[serde(default)]
+    pub counts_yz: Vec<u32>,
+    /// per-bin sums of the cross-channel profiles
+    #[serde(default)]
+    pub profile: Vec<BinSums>,
 }
 
 /// One job's analysis, in the shape the sweep tables need.
@@ -85,6 +170,35 @@ pub struct Summary {
     pub mean_rotational_energy: f64,
     /// wall slip velocity U_x at the wall, in sqrt(g d)
     pub slip_velocity: f64,
+    /// the window all averages use, in collisions per particle: the steady window, or for a
+    /// run that is not steady its final third
+    pub window_start: f64,
+    pub window_end: f64,
+    /// power / expected shot-noise power of each family (1 for a random arrangement)
+    pub ratio_transverse: f64,
+    pub ratio_along_flow: f64,
+    pub ratio_antisymmetric: f64,
+    pub ratio_symmetric_rest: f64,
+    pub ratio_spanwise: f64,
+    /// the ratio above which each family counts as structure (5-sigma noise quantile, >= 2)
+    pub threshold_transverse: f64,
+    pub threshold_along_flow: f64,
+    pub threshold_antisymmetric: f64,
+    pub threshold_symmetric_rest: f64,
+    pub threshold_spanwise: f64,
+    /// dominant |k_x| of the antisymmetric excess power and the fraction of that excess in it
+    pub antisymmetric_kx: u32,
+    pub antisymmetric_coherence: f64,
+    /// the five strongest xy modes: "(k_x,k_y) P [P/noise]" separated by "; "
+    pub dominant_modes: String,
+    /// the coarse-graining grid
+    pub grid_x: u32,
+    pub grid_y: u32,
+    pub grid_z: u32,
+    /// N
+    pub particles: u64,
+    /// why a run is not steady, or other caveats (empty when there are none)
+    pub note: String,
 }
 
 /// One row of a folded, window-averaged power spectrum.
@@ -127,21 +241,62 @@ pub struct StructureChange {
     pub humps: u32,
 }
 
-/// Reduce one snapshot to what the analysis keeps of it.
-pub fn record_snapshot(snapshot: &Snapshot, _settings: &AnalysisSettings) -> SnapshotRecord {
-    let n = snapshot.len().max(1) as f64;
+/// Reduce one snapshot to what the analysis keeps of it: energies, the plane counts of the
+/// coarse-graining grid and the profile bin sums (no particles).
+pub fn record_snapshot(snapshot: &Snapshot, settings: &AnalysisSettings) -> SnapshotRecord {
+    let n = snapshot.len();
+    let grid = Grid::new(&snapshot.geometry, n, settings);
+    let [xy, xz, yz] = plane_counts(&cell_counts(&snapshot.positions, &grid), &grid);
     SnapshotRecord {
         collisions_per_particle: snapshot.collisions_per_particle,
         time: snapshot.time,
-        translational_energy: snapshot.translational_energy / n,
-        rotational_energy: snapshot.rotational_energy / n,
+        translational_energy: snapshot.translational_energy / n.max(1) as f64,
+        rotational_energy: snapshot.rotational_energy / n.max(1) as f64,
+        particles: n as u64,
+        box_extent: snapshot.geometry.extents(),
+        gravity: snapshot.gravity,
+        inertia_factor: snapshot.inertia_factor,
+        grid: grid.n.map(|k| k as u32),
+        grid_volume: grid.volume(),
+        counts_xy: xy,
+        counts_xz: xz,
+        counts_yz: yz,
+        profile: profiles::bin_sums(snapshot, &grid, settings.profile_bins),
     }
 }
 
-/// Analyse a job's snapshot records (in order of simulated time).
-///
-/// Interim version (until the classifier lands): the energy trace only, label "unclassified".
-pub fn analyse_job(records: &[SnapshotRecord], _settings: &AnalysisSettings) -> JobAnalysis {
+/// The xy, xz and yz plane fields of phi of a record (averages over the third axis).
+pub fn plane_fields(record: &SnapshotRecord) -> [Vec<f64>; 3] {
+    let [n1, n2, n3] = record.grid.map(|k| k as usize);
+    let v = record.grid_volume;
+    let field = |counts: &[u32], cells: usize| -> Vec<f64> {
+        let c = SPHERE_VOLUME * cells as f64 / v;
+        counts.iter().map(|&k| c * k as f64).collect()
+    };
+    [
+        field(&record.counts_xy, n1 * n2),
+        field(&record.counts_xz, n1 * n3),
+        field(&record.counts_yz, n2 * n3),
+    ]
+}
+
+/// True when a record carries a usable grid (all plane counts present).
+fn has_fields(r: &SnapshotRecord) -> bool {
+    let [n1, n2, n3] = r.grid.map(|k| k as usize);
+    n1 > 0
+        && n2 > 0
+        && n3 > 0
+        && r.particles > 0
+        && r.grid_volume > 0.0
+        && r.counts_xy.len() == n1 * n2
+        && r.counts_xz.len() == n1 * n3
+        && r.counts_yz.len() == n2 * n3
+}
+
+/// Analyse a job's snapshot records (in order of simulated time): energy trace, steady window,
+/// window-averaged spectra, families and profiles, the label, and its evolution per snapshot.
+/// Never panics; with fewer than `min_steady_snapshots` records the run is "not-steady".
+pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> JobAnalysis {
     let energy: Vec<EnergyRow> = records
         .iter()
         .map(|r| EnergyRow {
@@ -151,8 +306,253 @@ pub fn analyse_job(records: &[SnapshotRecord], _settings: &AnalysisSettings) -> 
             rotational: r.rotational_energy,
         })
         .collect();
-    let summary = Summary {
-        label: "unclassified".into(),
+    let clock: Vec<f64> = records.iter().map(|r| r.collisions_per_particle).collect();
+    let trace: Vec<f64> = records.iter().map(|r| r.translational_energy).collect();
+    let window = steady::detect(&clock, &trace, settings.min_steady_snapshots);
+    let in_window = &records[window.start.min(records.len())..];
+
+    // per-snapshot family powers (records with a usable grid, same grid as the last record)
+    let reference = records.iter().rev().find(|r| has_fields(r));
+    let same_grid = |r: &SnapshotRecord| {
+        has_fields(r) && reference.is_some_and(|q| q.grid == r.grid && q.particles == r.particles)
+    };
+    let families: Vec<Option<FamilyPowers>> = records
+        .iter()
+        .map(|r| {
+            same_grid(r).then(|| {
+                let [xy, xz, yz] = plane_fields(r);
+                family_powers(&xy, &xz, &yz, r.grid.map(|k| k as usize))
+            })
+        })
+        .collect();
+
+    let mut summary = empty_summary();
+    let mut spectra = Vec::new();
+    let mut evolution = Vec::new();
+    let mut notes: Vec<String> = Vec::new();
+    if let Some(q) = reference {
+        let n = q.grid.map(|k| k as usize);
+        let p0 = noise_per_mode(q.particles as usize, q.grid_volume);
+        // window average of the families and the spectra
+        let used: Vec<&SnapshotRecord> = in_window.iter().filter(|r| same_grid(r)).collect();
+        let mut avg = FamilyPowers::zero(n[0]);
+        for (r, f) in records.iter().zip(&families).skip(window.start) {
+            if let Some(f) = f {
+                debug_assert!(same_grid(r));
+                avg.add_scaled(f, 1.0 / used.len() as f64);
+            }
+        }
+        if used.len() < in_window.len() {
+            notes.push(format!(
+                "{} snapshots of the window lack fields on the common grid and were skipped",
+                in_window.len() - used.len()
+            ));
+        }
+        if !used.is_empty() {
+            let a = assess(&avg, n, p0, used.len());
+            let xy_avg = averaged_spectrum(&used, 0);
+            summary.dominant_modes = dominant_modes(&xy_avg, n[0], n[1], p0, 5);
+            for plane in 0..3 {
+                spectra.extend(spectrum_rows(&averaged_spectrum(&used, plane), n, plane));
+            }
+            summary.power_transverse = avg.transverse;
+            summary.power_along_flow = avg.along_flow;
+            summary.power_antisymmetric = avg.antisymmetric;
+            summary.power_symmetric_rest = avg.symmetric_rest;
+            summary.power_spanwise = avg.spanwise;
+            [
+                summary.ratio_transverse,
+                summary.ratio_along_flow,
+                summary.ratio_antisymmetric,
+                summary.ratio_symmetric_rest,
+                summary.ratio_spanwise,
+            ] = a.ratios;
+            [
+                summary.threshold_transverse,
+                summary.threshold_along_flow,
+                summary.threshold_antisymmetric,
+                summary.threshold_symmetric_rest,
+                summary.threshold_spanwise,
+            ] = a.thresholds;
+            summary.antisymmetric_kx = a.antisymmetric_kx;
+            summary.antisymmetric_coherence = a.coherence;
+            if window.steady {
+                summary.label = a.label.into();
+                summary.humps = a.humps;
+                summary.three_dimensional = a.three_dimensional;
+            } else {
+                notes.push(format!(
+                    "the final window alone would read \"{}\"{}",
+                    a.label,
+                    if a.three_dimensional { " (3D)" } else { "" }
+                ));
+            }
+        }
+        summary.noise_level = p0;
+        [summary.grid_x, summary.grid_y, summary.grid_z] = q.grid;
+        summary.particles = q.particles;
+        evolution = structure_evolution(records, &families, n, p0);
+    }
+    if window.steady && reference.is_none() {
+        summary.label = "unclassified".into();
+        notes.push("the records carry no density fields".into());
+    }
+    if !window.steady {
+        notes.insert(0, format!("not steady: {}", window.reason));
+    }
+    summary.steady = window.steady;
+    if let (Some(first), Some(last)) = (in_window.first(), in_window.last()) {
+        summary.window_start = first.collisions_per_particle;
+        summary.window_end = last.collisions_per_particle;
+        if window.steady {
+            summary.steady_start = summary.window_start;
+            summary.steady_end = summary.window_end;
+            summary.steady_snapshots = in_window.len() as u32;
+        }
+        let m = in_window.len() as f64;
+        summary.mean_translational_energy = in_window
+            .iter()
+            .map(|r| r.translational_energy)
+            .sum::<f64>()
+            / m;
+        summary.mean_rotational_energy =
+            in_window.iter().map(|r| r.rotational_energy).sum::<f64>() / m;
+    }
+    let with_profiles: Vec<&SnapshotRecord> =
+        in_window.iter().filter(|r| !r.profile.is_empty()).collect();
+    let (profiles, slip) = profiles::profiles(&with_profiles);
+    summary.slip_velocity = slip;
+    summary.note = notes.join("; ");
+    JobAnalysis {
+        summary,
+        spectra,
+        profiles,
+        energy,
+        evolution,
+    }
+}
+
+/// Minimum run of equal per-snapshot labels that counts as a change of structure (a single
+/// snapshot that differs from its neighbours is a flicker near a threshold, not a change).
+pub const MIN_LABEL_RUN: usize = 2;
+
+/// Per-snapshot labels (each snapshot assessed alone) reduced to their changes: the first
+/// entry is the first snapshot's label; a later entry marks the first snapshot of a run of at
+/// least [`MIN_LABEL_RUN`] snapshots with a new (label, humps).
+fn structure_evolution(
+    records: &[SnapshotRecord],
+    families: &[Option<FamilyPowers>],
+    n: [usize; 3],
+    p0: f64,
+) -> Vec<StructureChange> {
+    let labels: Vec<(f64, &'static str, u32)> = records
+        .iter()
+        .zip(families)
+        .filter_map(|(r, f)| {
+            f.as_ref().map(|f| {
+                let a = assess(f, n, p0, 1);
+                (r.collisions_per_particle, a.label, a.humps)
+            })
+        })
+        .collect();
+    let mut out: Vec<StructureChange> = Vec::new();
+    for (i, &(cpp, label, humps)) in labels.iter().enumerate() {
+        let same_as_current = out
+            .last()
+            .is_some_and(|c| c.label == label && c.humps == humps);
+        if same_as_current {
+            continue;
+        }
+        let confirmed = out.is_empty()
+            || labels[i..]
+                .iter()
+                .take(MIN_LABEL_RUN)
+                .filter(|l| l.1 == label && l.2 == humps)
+                .count()
+                == MIN_LABEL_RUN;
+        if confirmed {
+            out.push(StructureChange {
+                collisions_per_particle: cpp,
+                label: label.into(),
+                humps,
+            });
+        }
+    }
+    out
+}
+
+/// Folded spectrum of plane `plane` (0 xy, 1 xz, 2 yz) averaged over `records`.
+fn averaged_spectrum(records: &[&SnapshotRecord], plane: usize) -> Vec<f64> {
+    let Some(first) = records.first() else {
+        return Vec::new();
+    };
+    let (a, b) = plane_dims(first.grid.map(|k| k as usize), plane);
+    let (m1, m2) = folded_shape(a, b);
+    let mut avg = vec![0.0; m1 * m2];
+    for r in records {
+        let fields = plane_fields(r);
+        let p = fold(&power_2d(&fields[plane], a, b), a, b);
+        for (s, v) in avg.iter_mut().zip(p) {
+            *s += v / records.len() as f64;
+        }
+    }
+    avg
+}
+
+/// Grid sizes (first, second axis) of a plane.
+fn plane_dims(n: [usize; 3], plane: usize) -> (usize, usize) {
+    match plane {
+        0 => (n[0], n[1]),
+        1 => (n[0], n[2]),
+        _ => (n[1], n[2]),
+    }
+}
+
+/// Rows of a folded spectrum (without the mean (0, 0)).
+fn spectrum_rows(folded: &[f64], n: [usize; 3], plane: usize) -> Vec<SpectrumRow> {
+    let (a, b) = plane_dims(n, plane);
+    let (m1, m2) = folded_shape(a, b);
+    let name = ["xy", "xz", "yz"][plane];
+    let mut rows = Vec::with_capacity(m1 * m2);
+    for k1 in 0..m1 {
+        for k2 in 0..m2 {
+            if k1 + k2 > 0 && k1 * m2 + k2 < folded.len() {
+                rows.push(SpectrumRow {
+                    plane: name.into(),
+                    k1: k1 as u32,
+                    k2: k2 as u32,
+                    power: folded[k1 * m2 + k2],
+                });
+            }
+        }
+    }
+    rows
+}
+
+/// The `count` strongest modes of a folded xy spectrum as "(k_x,k_y) P [P/noise]".
+fn dominant_modes(folded: &[f64], n1: usize, n2: usize, p0: f64, count: usize) -> String {
+    let (m1, m2) = folded_shape(n1, n2);
+    let mut modes: Vec<(usize, usize, f64)> = (0..m1)
+        .flat_map(|k1| (0..m2).map(move |k2| (k1, k2)))
+        .filter(|&(k1, k2)| k1 + k2 > 0)
+        .map(|(k1, k2)| (k1, k2, folded[k1 * m2 + k2]))
+        .collect();
+    modes.sort_by(|a, b| b.2.total_cmp(&a.2).then((a.0, a.1).cmp(&(b.0, b.1))));
+    modes
+        .iter()
+        .take(count)
+        .map(|&(k1, k2, p)| {
+            let noise = (multiplicity(k1, n1) * multiplicity(k2, n2)) as f64 * p0;
+            format!("({k1},{k2}) {p:.3e} [{:.1}x]", p / noise)
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// A summary before anything is known.
+fn empty_summary() -> Summary {
+    Summary {
+        label: "not-steady".into(),
         humps: 0,
         three_dimensional: false,
         steady: false,
@@ -168,6 +568,25 @@ pub fn analyse_job(records: &[SnapshotRecord], _settings: &AnalysisSettings) -> 
         mean_translational_energy: f64::NAN,
         mean_rotational_energy: f64::NAN,
         slip_velocity: f64::NAN,
-    };
-    JobAnalysis { summary, spectra: Vec::new(), profiles: Vec::new(), energy, evolution: Vec::new() }
+        window_start: f64::NAN,
+        window_end: f64::NAN,
+        ratio_transverse: f64::NAN,
+        ratio_along_flow: f64::NAN,
+        ratio_antisymmetric: f64::NAN,
+        ratio_symmetric_rest: f64::NAN,
+        ratio_spanwise: f64::NAN,
+        threshold_transverse: f64::NAN,
+        threshold_along_flow: f64::NAN,
+        threshold_antisymmetric: f64::NAN,
+        threshold_symmetric_rest: f64::NAN,
+        threshold_spanwise: f64::NAN,
+        antisymmetric_kx: 0,
+        antisymmetric_coherence: f64::NAN,
+        dominant_modes: String::new(),
+        grid_x: 0,
+        grid_y: 0,
+        grid_z: 0,
+        particles: 0,
+        note: String::new(),
+    }
 }
