@@ -154,15 +154,23 @@ pub fn run_job(
                 )
             }
             None => {
-                queue::log(dir, "start")?;
                 let mut engine = engine::build(&job.params.engine_spec())?;
                 let snap = engine.snapshot();
-                (
-                    engine,
-                    vec![analysis::record_snapshot(&snap, settings)],
-                    0,
-                    0.0,
-                )
+                let records = vec![analysis::record_snapshot(&snap, settings)];
+                // checkpoint 0 first, then the log line: a job is "started" once its initial
+                // state is on disk; a kill before that leaves nothing to resume and no trace
+                write_checkpoint(
+                    dir,
+                    &JobCheckpoint {
+                        format: CHECKPOINT_FORMAT,
+                        snapshot: 0,
+                        engine: engine.checkpoint(),
+                        records: records.clone(),
+                        wall_seconds: started.elapsed().as_secs_f64(),
+                    },
+                )?;
+                queue::log(dir, "start")?;
+                (engine, records, 0, 0.0)
             }
         };
     let events_at_start = engine.progress().events;

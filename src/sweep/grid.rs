@@ -55,8 +55,21 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
     let mut plan = Vec::new();
     let mut seen: HashMap<JobId, usize> = HashMap::new();
     for (from, mut values) in points {
+        let axes_keys = spec.axes.to_map();
+        let fixed_keys = spec.fixed.to_map();
         let at = |key: &str, message: String| match from {
-            From::Grid => src.error_at(Some("axes"), key, 0, message),
+            From::Grid => {
+                let section = if axes_keys.contains_key(key) {
+                    Some("axes")
+                } else if fixed_keys.contains_key(key) {
+                    Some("fixed")
+                } else if spec.linked.iter().any(|l| l.param == key) {
+                    Some("linked")
+                } else {
+                    None
+                };
+                src.error_at(section, key, 0, message)
+            }
             From::Point(i) => {
                 src.error_at(None, "points", 0, format!("point {}: {message}", i + 1))
             }

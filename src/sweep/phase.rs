@@ -273,7 +273,7 @@ impl PhaseDiagram {
                 ))?;
                 root.draw(&Text::new(
                     fmt_value(*v),
-                    (left - 45, py(yi) - 7),
+                    (left - 45, py(yi) - 3),
                     small.clone(),
                 ))?;
             }

@@ -244,15 +244,49 @@ fn find_key(text: &str, from: usize, key: &str) -> Option<usize> {
 pub fn parse(path: &Path, text: &str) -> Result<SweepSpec, SpecError> {
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
-    options.from_str::<SweepSpec>(text).map_err(|e| SpecError {
-        origin: Origin::File {
-            path: path.to_path_buf(),
-            line: e.span.start.line,
-            col: e.span.start.col,
-        },
-        key: None,
-        message: format!("{}{}", e.code, hint(&e.code)),
+    options.from_str::<SweepSpec>(text).map_err(|e| {
+        let key = key_before(text, e.span.start.line, e.span.start.col);
+        let allowed = key
+            .as_deref()
+            .and_then(param_def)
+            .map(|d| format!("; allowed: {}", d.allowed))
+            .unwrap_or_default();
+        SpecError {
+            origin: Origin::File {
+                path: path.to_path_buf(),
+                line: e.span.start.line,
+                col: e.span.start.col,
+            },
+            key,
+            message: format!("{}{}{allowed}", e.code, hint(&e.code)),
+        }
     })
+}
+
+/// The last `identifier:` before (line, col) (1-based): the key an error position belongs to.
+fn key_before(text: &str, line: usize, col: usize) -> Option<String> {
+    let mut prefix = String::new();
+    for (i, l) in text.lines().enumerate() {
+        if i + 1 < line {
+            prefix.push_str(l);
+            prefix.push('\n');
+        } else {
+            prefix.extend(l.chars().take(col.saturating_sub(1)));
+            break;
+        }
+    }
+    let mut at = prefix.len();
+    while let Some(colon) = prefix[..at].rfind(':') {
+        let end = prefix[..colon].trim_end().len();
+        let start = prefix[..end]
+            .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .map_or(0, |p| p + 1);
+        if start < end {
+            return Some(prefix[start..end].to_string());
+        }
+        at = colon;
+    }
+    None
 }
 
 fn hint(code: &ron::Error) -> String {
@@ -377,6 +411,17 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
                     .iter()
                     .map(|s| parse_f64(s))
                     .collect::<Result<Vec<_>, _>>()?;
+                for &v in &parsed {
+                    if !(def.check)(v) {
+                        return Err(bad(
+                            Some(key),
+                            format!(
+                                "{} ({}) = {v} is out of range: allowed {}",
+                                def.name, def.symbol, def.allowed
+                            ),
+                        ));
+                    }
+                }
                 let mut fixed = spec.fixed.to_map();
                 let mut axes = spec.axes.to_map();
                 if parsed.len() == 1 {
