@@ -688,3 +688,106 @@ fn two_runners_never_run_the_same_job() {
         assert_eq!(done, (1..3).contains(&job.index), "job {}", job.index);
     }
 }
+
+/// A failing job is recorded with its error and the sweep goes on; `--retry-failed` reruns it.
+#[test]
+fn failed_job_is_recorded_and_retried() {
+    let dir = scratch("failed");
+    let file = write(
+        &dir,
+        "proc.ron",
+        &sweep_text(
+            "",
+            "        length_over_width: [1.0, 2.0],\n",
+            "",
+            100.0,
+            50.0,
+        ),
+    );
+    let results = dir.join("results");
+    let sweep = load_sweep(&file, &[]).unwrap();
+    let bad = results.join("proc/jobs").join(&sweep.plan[1].id.0);
+    std::fs::create_dir_all(&bad).unwrap();
+    std::fs::write(bad.join(queue::CHECKPOINT_FILE), b"not a checkpoint").unwrap();
+    let run = |extra: &[&str]| {
+        Command::new(BIN)
+            .args([
+                "run",
+                file.to_str().unwrap(),
+                "--results",
+                results.to_str().unwrap(),
+            ])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let out = run(&[]);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "a run with failed jobs exits with 1"
+    );
+    let good = results.join("proc/jobs").join(&sweep.plan[0].id.0);
+    assert!(
+        good.join(queue::RESULT_FILE).exists(),
+        "the other job went on"
+    );
+    let failure = std::fs::read_to_string(bad.join(queue::FAILED_FILE)).unwrap();
+    assert!(failure.contains("checksum"), "{failure}");
+    let status = Command::new(BIN)
+        .args(["status", results.join("proc").to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&status.stdout);
+    assert!(
+        text.contains("failed 1") && text.contains("checksum"),
+        "{text}"
+    );
+    // without --retry-failed the failed job is skipped, with it it runs
+    std::fs::remove_file(bad.join(queue::CHECKPOINT_FILE)).unwrap();
+    assert_eq!(run(&[]).status.code(), Some(1));
+    assert!(!bad.join(queue::RESULT_FILE).exists());
+    let out = run(&["--retry-failed"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(bad.join(queue::RESULT_FILE).exists() && !bad.join(queue::FAILED_FILE).exists());
+
+    // the phase diagram of the finished sweep: a strip over L/W, PNG and SVG, and bad axes
+    let out = Command::new(BIN)
+        .args([
+            "phase-diagram",
+            results.join("proc").to_str().unwrap(),
+            "--x",
+            "length_over_width",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let png = std::fs::read(results.join("proc/phase-length_over_width.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let svg = std::fs::read_to_string(results.join("proc/phase-length_over_width.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("length_over_width"));
+    let row = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("structure"))
+        .unwrap();
+    assert_eq!(row.split_whitespace().count(), 3, "{text}");
+    let out = Command::new(BIN)
+        .args([
+            "phase-diagram",
+            results.join("proc").to_str().unwrap(),
+            "--x",
+            "no_such",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}

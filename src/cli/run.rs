@@ -72,6 +72,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let summary = run_sweep(&sweep, &dirs, &opts)?;
     let jobs = tables::collect(&sweep, &dirs);
     let failed: Vec<_> = jobs.iter().filter(|j| j.state.name() == "failed").collect();
+    let failures = failed.len();
     if !failed.is_empty() {
         println!(
             "{} failed jobs (see `granflow status {}`; rerun with --retry-failed):",
@@ -103,5 +104,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             dirs.tables.display()
         );
     }
+    anyhow::ensure!(
+        failures == 0,
+        "{failures} jobs failed (the others are done; rerun with --retry-failed)"
+    );
     Ok(())
 }
