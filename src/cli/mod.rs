@@ -1,7 +1,12 @@
 //! The command-line front end: clap arguments and one module per command.
 
 mod bench;
+mod gather;
+mod phase_diagram;
+mod plan;
+mod run;
 mod sim;
+mod status;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -20,6 +25,16 @@ pub enum Command {
     Sim(sim::SimArgs),
     /// Measure engine speed on standard workloads (collisions/s, events/s, memory).
     Bench(bench::BenchArgs),
+    /// Run the jobs of a sweep that are not done yet (resumable), then write the tables.
+    Run(run::RunArgs),
+    /// List the jobs of a sweep (id, parameters, N, estimated work, state) without running.
+    Plan(plan::PlanArgs),
+    /// Show a sweep's jobs by state, their progress and failures.
+    Status(status::StatusArgs),
+    /// Write the Parquet tables of a results directory.
+    Gather(gather::GatherArgs),
+    /// Print and plot (PNG, SVG) the structure labels over two swept parameters.
+    PhaseDiagram(phase_diagram::PhaseDiagramArgs),
 }
 
 /// Exit code for bad input (files, keys, values).
@@ -31,6 +46,11 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Sim(args) => sim::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Run(args) => run::run(args),
+        Command::Plan(args) => plan::run(args),
+        Command::Status(args) => status::run(args),
+        Command::Gather(args) => gather::run(args),
+        Command::PhaseDiagram(args) => phase_diagram::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -39,7 +59,13 @@ pub fn main() -> ExitCode {
             for cause in err.chain().skip(1) {
                 eprintln!("  caused by: {cause}");
             }
-            ExitCode::FAILURE
+            if err.downcast_ref::<crate::sweep::SpecError>().is_some()
+                || err.downcast_ref::<crate::sweep::BadInput>().is_some()
+            {
+                ExitCode::from(EXIT_BAD_INPUT)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

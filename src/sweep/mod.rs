@@ -1,2 +1,217 @@
 //! Sweeps: RON sweep files, grid expansion, job ids, the resumable job queue, the rayon runner,
 //! Parquet tables and phase diagrams.
+//!
+//! Library entry points (also used by the Slurm front end):
+//! - [`load_sweep`]: parse + override + validate + expand a sweep file into a [`Sweep`] (its
+//!   resolved spec and its [`Sweep::plan`], the ordered jobs with id and parameters);
+//! - [`Sweep::results_dir`] / [`open_results`]: where a sweep's results live, and reading a
+//!   sweep back from its results directory alone ([`SweepDirs`]: tables dir + jobs dir);
+//! - [`queue`]: job directories, states ([`queue::job_state`]), claims (OS file locks);
+//! - [`execute::run_job`]: run one claimed job (checkpointed, resumable);
+//! - [`runner::run_sweep`]: the rayon pool with progress bars and a single writer;
+//! - [`tables::gather`]: write the Parquet tables of a results directory.
+
+pub mod execute;
+pub mod grid;
+pub mod job;
+pub mod phase;
+pub mod queue;
+pub mod runner;
+pub mod spec;
+pub mod tables;
+
+pub use grid::PlannedJob;
+pub use job::{JobId, JobParams, RunSettings};
+pub use spec::{Origin, SpecError, SweepSpec};
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Bad command-line input other than the sweep file (exit code 2).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct BadInput(pub String);
+
+/// File name of the resolved sweep inside a results directory.
+pub const RESOLVED_SWEEP_FILE: &str = "sweep.ron";
+
+/// A validated, expanded sweep.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// the sweep's name (the results directory name)
+    pub name: String,
+    /// the spec after overrides (what `sweep.ron` in the results directory holds)
+    pub spec: SweepSpec,
+    /// the jobs in plan order
+    pub plan: Vec<PlannedJob>,
+}
+
+/// The two directories of a sweep's results.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepDirs {
+    /// tables, resolved sweep and phase diagrams: `results/<name>/` or, for a run with
+    /// overrides, `results/<name>/runs/<overrides>/`
+    pub tables: PathBuf,
+    /// job directories `jobs/<id>/`, shared by all runs of the sweep: `results/<name>/jobs/`
+    pub jobs: PathBuf,
+}
+
+impl SweepDirs {
+    /// The job directory of a job id.
+    pub fn job_dir(&self, id: &JobId) -> PathBuf {
+        self.jobs.join(&id.0)
+    }
+}
+
+/// Load a sweep file, apply `--set` overrides, validate and expand it. Errors name the file,
+/// line/column, key and the allowed values; nothing is written.
+pub fn load_sweep(path: &Path, overrides: &[String]) -> Result<Sweep, SpecError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SpecError {
+        origin: Origin::File {
+            path: path.to_path_buf(),
+            line: 0,
+            col: 0,
+        },
+        key: None,
+        message: format!("cannot read the sweep file: {e}"),
+    })?;
+    let src = spec::Source { path, text: &text };
+    let mut spec = spec::parse(path, &text)?;
+    spec::apply_overrides(&mut spec, overrides)?;
+    spec::validate(&spec, &src)?;
+    let plan = grid::expand(&spec, &src)?;
+    let name = match &spec.name {
+        Some(n) => n.clone(),
+        None => path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "sweep".into()),
+    };
+    spec.name = Some(name.clone());
+    Ok(Sweep { name, spec, plan })
+}
+
+impl Sweep {
+    /// Where this sweep's results go under a results root (default `results`): tables in
+    /// `<root>/<name>/` (or `<root>/<name>/runs/<overrides>/` when `--set` was used, so that
+    /// runs with different overrides never share tables), jobs in `<root>/<name>/jobs/` (shared:
+    /// a point already computed is found by its id and reused).
+    pub fn results_dir(&self, root: &Path) -> SweepDirs {
+        let base = root.join(&self.name);
+        let tables = if self.spec.overrides.is_empty() {
+            base.clone()
+        } else {
+            base.join("runs").join(override_tag(&self.spec.overrides))
+        };
+        SweepDirs {
+            tables,
+            jobs: base.join("jobs"),
+        }
+    }
+
+    /// Write the resolved sweep (after overrides) into the tables directory.
+    pub fn write_resolved(&self, dirs: &SweepDirs) -> anyhow::Result<()> {
+        std::fs::create_dir_all(&dirs.tables)?;
+        std::fs::create_dir_all(&dirs.jobs)?;
+        let config = ron::ser::PrettyConfig::default()
+            .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+        let text = ron::ser::to_string_pretty(&self.spec, config)?;
+        write_atomic(
+            &dirs.tables.join(RESOLVED_SWEEP_FILE),
+            format!(
+                "// resolved sweep written by granflow (overrides applied); do not edit\n{text}\n"
+            )
+            .as_bytes(),
+        )?;
+        Ok(())
+    }
+}
+
+/// A directory name for a set of overrides: `key=value+key=v1,v2` (characters other than
+/// letters, digits and `._-=,+` replaced by `_`; long sets shortened with a hash).
+pub fn override_tag(overrides: &[String]) -> String {
+    let tag: String = overrides
+        .join("+")
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "._-=,+".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if tag.len() <= 100 {
+        tag
+    } else {
+        let id = job::id_of_canonical(&overrides.join("\n"));
+        format!("{}-{}", &tag[..60], id)
+    }
+}
+
+/// Read a sweep back from its results directory (`results/<name>` or
+/// `results/<name>/runs/<overrides>`) using the resolved `sweep.ron` written by `run`.
+pub fn open_results(dir: &Path) -> Result<(Sweep, SweepDirs), SpecError> {
+    let file = dir.join(RESOLVED_SWEEP_FILE);
+    let sweep = load_sweep(&file, &[])?;
+    let in_runs = dir
+        .parent()
+        .and_then(|p| p.file_name())
+        .is_some_and(|n| n == "runs");
+    let jobs = if in_runs {
+        dir.parent()
+            .and_then(|p| p.parent())
+            .map(|p| p.join("jobs"))
+            .unwrap_or_else(|| dir.join("jobs"))
+    } else {
+        dir.join("jobs")
+    };
+    Ok((
+        sweep,
+        SweepDirs {
+            tables: dir.to_path_buf(),
+            jobs,
+        },
+    ))
+}
+
+/// Open a sweep from either a sweep file (with overrides, results under `root`) or a results
+/// directory.
+pub fn open_any(
+    path: &Path,
+    overrides: &[String],
+    root: &Path,
+) -> Result<(Sweep, SweepDirs), SpecError> {
+    if path.is_dir() {
+        open_results(path)
+    } else {
+        let sweep = load_sweep(path, overrides)?;
+        let dirs = sweep.results_dir(root);
+        Ok((sweep, dirs))
+    }
+}
+
+/// Write a file atomically: temp file in the same directory, fsync, rename, fsync the directory.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}-{}",
+        path.file_name()
+            .map(|n| n.to_string_lossy())
+            .unwrap_or_default(),
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+    }
+    std::fs::rename(&tmp, path)?;
+    if let Ok(d) = std::fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}

@@ -1,0 +1,71 @@
+//! `granflow phase-diagram results/<sweep> --x P [--y Q]`: print the grid of structure labels
+//! and write PNG and SVG plots into the results directory.
+
+use crate::sweep::phase::{PhaseDiagram, swept_in};
+use crate::sweep::{BadInput, open_any, tables};
+use clap::Args;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub struct PhaseDiagramArgs {
+    /// a results directory (results/<sweep>) or a sweep file
+    pub sweep: PathBuf,
+    /// parameter along x (default: the first swept one)
+    #[arg(long)]
+    pub x: Option<String>,
+    /// parameter along y (default: the second swept one; none gives a strip)
+    #[arg(long)]
+    pub y: Option<String>,
+    /// results root when a sweep file is given
+    #[arg(long, default_value = "results")]
+    pub results: PathBuf,
+    /// overrides, as given to `run`, when a sweep file is given
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+/// Write `phase-<x>[-<y>].png` and `.svg` into `dir`; returns their paths.
+pub fn write_plots(diagram: &PhaseDiagram, dir: &Path) -> anyhow::Result<(PathBuf, PathBuf)> {
+    let stem = match &diagram.y {
+        Some(y) => format!("phase-{}-{}", diagram.x, y),
+        None => format!("phase-{}", diagram.x),
+    };
+    let png = dir.join(format!("{stem}.png"));
+    let svg = dir.join(format!("{stem}.svg"));
+    diagram.write_png(&png)?;
+    diagram.write_svg(&svg)?;
+    Ok((png, svg))
+}
+
+pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
+    let (sweep, dirs) = open_any(&args.sweep, &args.set, &args.results)?;
+    let jobs = tables::collect(&sweep, &dirs);
+    let swept = swept_in(&sweep, &jobs);
+    let x = match args
+        .x
+        .clone()
+        .or_else(|| swept.first().map(|s| s.to_string()))
+    {
+        Some(x) => x,
+        None => return Err(BadInput("nothing is swept: give --x".into()).into()),
+    };
+    let y = args.y.clone().or_else(|| {
+        if args.x.is_some() {
+            None
+        } else {
+            swept.get(1).map(|s| s.to_string())
+        }
+    });
+    let diagram = PhaseDiagram::build(&jobs, &x, y.as_deref()).map_err(BadInput)?;
+    let others: Vec<_> = swept
+        .iter()
+        .filter(|s| **s != x && Some(**s) != y.as_deref())
+        .collect();
+    if !others.is_empty() {
+        println!("note: {others:?} also vary; their jobs share cells (labels joined by /)");
+    }
+    print!("{}", diagram.table());
+    let (png, svg) = write_plots(&diagram, &dirs.tables)?;
+    println!("plots: {} {}", png.display(), svg.display());
+    Ok(())
+}

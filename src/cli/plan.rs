@@ -1,0 +1,75 @@
+//! `granflow plan SWEEP.ron`: list the jobs of a sweep (index, id, state, N, estimated work,
+//! swept parameters, seed) without running anything.
+
+use crate::sweep::{load_sweep, phase, queue, tables};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// the sweep file (sweeps/*.ron)
+    pub sweep: PathBuf,
+    /// results root (to show each job's state)
+    #[arg(long, default_value = "results")]
+    pub results: PathBuf,
+    /// override a fixed value or an axis: key=value or key=v1,v2,... (repeatable)
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+pub fn run(args: PlanArgs) -> anyhow::Result<()> {
+    let sweep = load_sweep(&args.sweep, &args.set)?;
+    let dirs = sweep.results_dir(&args.results);
+    let jobs = tables::collect(&sweep, &dirs);
+    let mut swept = phase::swept_in(&sweep, &jobs);
+    if swept.is_empty() {
+        swept.push("length_over_width");
+    }
+    println!(
+        "sweep {}: {} jobs; tables in {}, jobs in {}",
+        sweep.name,
+        sweep.plan.len(),
+        dirs.tables.display(),
+        dirs.jobs.display()
+    );
+    let mut header = format!(
+        "{:>5}  {:<16}  {:<8}  {:>8}  {:>10}",
+        "index", "id", "state", "N", "work"
+    );
+    for s in &swept {
+        header.push_str(&format!("  {s:>w$}", w = s.len().max(8)));
+    }
+    header.push_str("  seed");
+    println!("{header}");
+    let mut total_work = 0.0;
+    for j in &jobs {
+        let p = &j.job.params;
+        total_work += p.estimated_work();
+        let state = match &j.state {
+            queue::JobState::Partial(c) => format!("{:.0}cpp", c),
+            s => s.name().to_string(),
+        };
+        let mut line = format!(
+            "{:>5}  {:<16}  {:<8}  {:>8}  {:>10.3e}",
+            j.job.index,
+            j.job.id.0,
+            state,
+            p.particles(),
+            p.estimated_work()
+        );
+        for s in &swept {
+            line.push_str(&format!(
+                "  {:>w$}",
+                phase::fmt_value(p.get(s)),
+                w = s.len().max(8)
+            ));
+        }
+        line.push_str(&format!("  {}", p.seed));
+        println!("{line}");
+    }
+    println!(
+        "estimated work: {total_work:.3e} collisions (about {:.0} core-seconds at 1.5e5 collisions/s)",
+        total_work / 1.5e5
+    );
+    Ok(())
+}

@@ -1,0 +1,112 @@
+//! `granflow run SWEEP.ron`: run the jobs of a sweep that are not done yet on a rayon pool,
+//! write the tables, and show the phase diagram when every job is done.
+
+use crate::sweep::runner::{RunOptions, run_sweep};
+use crate::sweep::{BadInput, load_sweep, phase, tables};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// the sweep file (sweeps/*.ron)
+    pub sweep: PathBuf,
+    /// results root: tables in DIR/<sweep>/ (DIR/<sweep>/runs/<overrides>/ with --set), jobs in DIR/<sweep>/jobs/
+    #[arg(long, default_value = "results")]
+    pub results: PathBuf,
+    /// worker threads (default: all cores)
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// override a fixed value or an axis: key=value or key=v1,v2,... (repeatable)
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// only jobs whose plan index (order of `granflow plan`) lies in [START, END)
+    #[arg(long, value_name = "START:END")]
+    pub job_range: Option<String>,
+    /// run failed jobs again (from their last checkpoint)
+    #[arg(long)]
+    pub retry_failed: bool,
+}
+
+/// Parse `START:END` (either side may be empty: 0 and the plan length).
+pub fn parse_job_range(text: &str, plan_len: usize) -> Result<(usize, usize), BadInput> {
+    let bad = || {
+        BadInput(format!(
+            "--job-range {text}: expected START:END with 0 <= START <= END (plan indices, END exclusive; the plan has {plan_len} jobs)"
+        ))
+    };
+    let (a, b) = text.split_once(':').ok_or_else(bad)?;
+    let a = if a.trim().is_empty() {
+        0
+    } else {
+        a.trim().parse().map_err(|_| bad())?
+    };
+    let b = if b.trim().is_empty() {
+        plan_len
+    } else {
+        b.trim().parse().map_err(|_| bad())?
+    };
+    if a > b {
+        return Err(bad());
+    }
+    Ok((a, b.min(plan_len)))
+}
+
+pub fn run(args: RunArgs) -> anyhow::Result<()> {
+    let sweep = load_sweep(&args.sweep, &args.set)?;
+    let job_range = match &args.job_range {
+        Some(t) => Some(parse_job_range(t, sweep.plan.len())?),
+        None => None,
+    };
+    if args.threads == Some(0) {
+        return Err(BadInput("--threads 0: allowed a whole number >= 1".into()).into());
+    }
+    let dirs = sweep.results_dir(&args.results);
+    let opts = RunOptions {
+        threads: args
+            .threads
+            .unwrap_or_else(|| RunOptions::default().threads),
+        retry_failed: args.retry_failed,
+        job_range,
+        write_tables: true,
+    };
+    let summary = run_sweep(&sweep, &dirs, &opts)?;
+    let jobs = tables::collect(&sweep, &dirs);
+    let failed: Vec<_> = jobs.iter().filter(|j| j.state.name() == "failed").collect();
+    let failures = failed.len();
+    if !failed.is_empty() {
+        println!(
+            "{} failed jobs (see `granflow status {}`; rerun with --retry-failed):",
+            failed.len(),
+            dirs.tables.display()
+        );
+        for j in &failed {
+            if let crate::sweep::queue::JobState::Failed(e) = &j.state {
+                println!("  {} [{}]: {e}", j.job.id, j.job.index);
+            }
+        }
+    }
+    if jobs.iter().all(|j| j.result.is_some()) {
+        let swept = phase::swept_in(&sweep, &jobs);
+        if let Some(&x) = swept.first() {
+            let y = swept.get(1).copied();
+            let diagram = phase::PhaseDiagram::build(&jobs, x, y).map_err(BadInput)?;
+            let (png, svg) = super::phase_diagram::write_plots(&diagram, &dirs.tables)?;
+            println!(
+                "\nphase diagram ({}):\n{}",
+                dirs.tables.display(),
+                diagram.table()
+            );
+            println!("plots: {} {}", png.display(), svg.display());
+        }
+    } else if summary.busy > 0 {
+        println!(
+            "some jobs are held by another runner; run `granflow gather {}` when it is done",
+            dirs.tables.display()
+        );
+    }
+    anyhow::ensure!(
+        failures == 0,
+        "{failures} jobs failed (the others are done; rerun with --retry-failed)"
+    );
+    Ok(())
+}

@@ -1,0 +1,62 @@
+//! `granflow status [SWEEP.ron | results/<sweep>]`: counts by state, per-job progress and
+//! failures with their errors.
+
+use crate::sweep::{open_any, queue::JobState, tables};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct StatusArgs {
+    /// a sweep file or a results directory (results/<sweep>)
+    pub sweep: PathBuf,
+    /// results root when a sweep file is given
+    #[arg(long, default_value = "results")]
+    pub results: PathBuf,
+    /// overrides, as given to `run`, when a sweep file is given
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+pub fn run(args: StatusArgs) -> anyhow::Result<()> {
+    let (sweep, dirs) = open_any(&args.sweep, &args.set, &args.results)?;
+    let jobs = tables::collect(&sweep, &dirs);
+    let count = |name: &str| jobs.iter().filter(|j| j.state.name() == name).count();
+    println!(
+        "sweep {} ({} jobs) in {}",
+        sweep.name,
+        jobs.len(),
+        dirs.tables.display()
+    );
+    println!(
+        "  done {}  running {}  partial {}  pending {}  failed {}",
+        count("done"),
+        count("running"),
+        count("partial"),
+        count("pending"),
+        count("failed")
+    );
+    for j in &jobs {
+        let target = j.job.params.run.collisions_per_particle;
+        let line = match &j.state {
+            JobState::Done => {
+                let r = j.result.as_ref().expect("done jobs have results");
+                format!(
+                    "done     {:.0}/{target:.0} cpp  {} ({} humps)  {:.1} s  {:.2e} events/s",
+                    r.collisions_per_particle,
+                    r.analysis.summary.label,
+                    r.analysis.summary.humps,
+                    r.wall_seconds,
+                    r.events_per_second
+                )
+            }
+            JobState::Partial(c) => {
+                format!("partial  {c:.0}/{target:.0} cpp (resumes from its checkpoint)")
+            }
+            JobState::Running => "running  (claimed by a live runner)".to_string(),
+            JobState::Pending => "pending".to_string(),
+            JobState::Failed(e) => format!("FAILED   {e}"),
+        };
+        println!("  [{:>3}] {}  {line}", j.job.index, j.job.id);
+    }
+    Ok(())
+}

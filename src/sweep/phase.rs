@@ -1,0 +1,387 @@
+//! Phase diagrams: the structure label of every done job placed on a grid of two swept
+//! parameters (or a strip for one), printed as a table and drawn as PNG and SVG (plotters):
+//! one marker per structure, hump counts written beside S-wave markers (as thesis Fig. 5.25).
+
+use super::tables::GatheredJob;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// One cell of the diagram: the labels (with humps) of the done jobs at that point, one per
+/// seed, and how many jobs are not done.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Cell {
+    pub labels: Vec<(String, u32)>,
+    pub not_done: usize,
+}
+
+impl Cell {
+    /// The most frequent label (ties: the first in order), with the humps of its first job.
+    pub fn main_label(&self) -> Option<(String, u32)> {
+        let mut counts: Vec<(&(String, u32), usize)> = Vec::new();
+        for l in &self.labels {
+            match counts.iter_mut().find(|(k, _)| k.0 == l.0) {
+                Some(c) => c.1 += 1,
+                None => counts.push((l, 1)),
+            }
+        }
+        counts
+            .iter()
+            .max_by(|a, b| a.1.cmp(&b.1).then(std::cmp::Ordering::Greater))
+            .map(|(l, _)| (*l).clone())
+    }
+
+    /// Text of the cell: `label` (`label(humps)` for humps > 0); several labels joined by `/`.
+    pub fn text(&self) -> String {
+        let mut parts: Vec<String> = Vec::new();
+        for (label, humps) in &self.labels {
+            let t = if *humps > 0 {
+                format!("{label}({humps})")
+            } else {
+                label.clone()
+            };
+            if !parts.contains(&t) {
+                parts.push(t);
+            }
+        }
+        if self.not_done > 0 {
+            parts.push(format!("[{} not done]", self.not_done));
+        }
+        if parts.is_empty() {
+            "-".into()
+        } else {
+            parts.join("/")
+        }
+    }
+}
+
+/// A phase diagram over parameter `x` (and `y`, or a strip).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhaseDiagram {
+    pub x: String,
+    pub y: Option<String>,
+    pub xs: Vec<f64>,
+    pub ys: Vec<f64>,
+    /// cells by (x index, y index)
+    pub cells: BTreeMap<(usize, usize), Cell>,
+}
+
+/// Parameters that take more than one value over the jobs (the ones worth plotting). N and
+/// phi count only when the sweep itself varies them (not when they follow from the box).
+pub fn swept_in(sweep: &super::Sweep, jobs: &[GatheredJob]) -> Vec<&'static str> {
+    let axes = sweep.spec.axes.to_map();
+    let in_points = |name: &str| {
+        sweep
+            .spec
+            .points
+            .iter()
+            .any(|p| p.to_map().contains_key(name))
+    };
+    super::job::PARAMS
+        .iter()
+        .filter(|d| {
+            let derived = d.name == "particles" || d.name == "volume_fraction";
+            (!derived || axes.contains_key(d.name) || in_points(d.name))
+                && distinct(jobs, d.name).len() > 1
+        })
+        .map(|d| d.name)
+        .collect()
+}
+
+fn distinct(jobs: &[GatheredJob], name: &str) -> Vec<f64> {
+    let mut vals: Vec<f64> = jobs.iter().map(|j| j.job.params.get(name)).collect();
+    vals.sort_by(f64::total_cmp);
+    vals.dedup();
+    vals
+}
+
+impl PhaseDiagram {
+    /// Place the jobs. `x` and `y` must be parameter names (see [`super::job::PARAMS`]).
+    pub fn build(jobs: &[GatheredJob], x: &str, y: Option<&str>) -> Result<Self, String> {
+        for name in std::iter::once(x).chain(y) {
+            if super::job::param_def(name).is_none() {
+                return Err(format!(
+                    "`{name}` is not a parameter; allowed: {}",
+                    super::job::param_names()
+                ));
+            }
+        }
+        let xs = distinct(jobs, x);
+        let ys = match y {
+            Some(y) => distinct(jobs, y),
+            None => vec![0.0],
+        };
+        let mut cells: BTreeMap<(usize, usize), Cell> = BTreeMap::new();
+        for j in jobs {
+            let xi = xs
+                .iter()
+                .position(|&v| v == j.job.params.get(x))
+                .unwrap_or(0);
+            let yi = match y {
+                Some(y) => ys
+                    .iter()
+                    .position(|&v| v == j.job.params.get(y))
+                    .unwrap_or(0),
+                None => 0,
+            };
+            let cell = cells.entry((xi, yi)).or_default();
+            match &j.result {
+                Some(r) => cell
+                    .labels
+                    .push((r.analysis.summary.label.clone(), r.analysis.summary.humps)),
+                None => cell.not_done += 1,
+            }
+        }
+        Ok(PhaseDiagram {
+            x: x.into(),
+            y: y.map(str::to_string),
+            xs,
+            ys,
+            cells,
+        })
+    }
+
+    /// The grid as a text table: rows y (largest on top), columns x.
+    pub fn table(&self) -> String {
+        let mut rows: Vec<Vec<String>> = Vec::new();
+        let corner = match &self.y {
+            Some(y) => format!("{y} \\ {}", self.x),
+            None => self.x.clone(),
+        };
+        rows.push(
+            std::iter::once(corner)
+                .chain(self.xs.iter().map(|v| fmt_value(*v)))
+                .collect(),
+        );
+        for yi in (0..self.ys.len()).rev() {
+            let head = match &self.y {
+                Some(_) => fmt_value(self.ys[yi]),
+                None => "structure".into(),
+            };
+            let mut row = vec![head];
+            for xi in 0..self.xs.len() {
+                row.push(self.cells.get(&(xi, yi)).map_or("-".into(), Cell::text));
+            }
+            rows.push(row);
+        }
+        let widths: Vec<usize> = (0..rows[0].len())
+            .map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0))
+            .collect();
+        let mut out = String::new();
+        for (i, row) in rows.iter().enumerate() {
+            let line: Vec<String> = row
+                .iter()
+                .zip(&widths)
+                .map(|(t, w)| format!("{t:>w$}"))
+                .collect();
+            out.push_str(line.join("  ").trim_end());
+            out.push('\n');
+            if i == 0 {
+                out.push_str(&"-".repeat(widths.iter().sum::<usize>() + 2 * (widths.len() - 1)));
+                out.push('\n');
+            }
+        }
+        out
+    }
+
+    /// Write the diagram as SVG.
+    pub fn write_svg(&self, path: &Path) -> anyhow::Result<()> {
+        let size = self.size();
+        let mut text = String::new();
+        {
+            let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+            self.draw(&root)
+                .map_err(|e| anyhow::anyhow!("drawing the SVG: {e}"))?;
+            root.present()
+                .map_err(|e| anyhow::anyhow!("drawing the SVG: {e}"))?;
+        }
+        super::write_atomic(path, text.as_bytes())?;
+        Ok(())
+    }
+
+    /// Write the diagram as PNG (RGB, 8 bit).
+    pub fn write_png(&self, path: &Path) -> anyhow::Result<()> {
+        let (w, h) = self.size();
+        let mut buf = vec![255u8; (w * h * 3) as usize];
+        {
+            let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+            self.draw(&root)
+                .map_err(|e| anyhow::anyhow!("drawing the PNG: {e}"))?;
+            root.present()
+                .map_err(|e| anyhow::anyhow!("drawing the PNG: {e}"))?;
+        }
+        let mut bytes = Vec::new();
+        {
+            let mut encoder = png::Encoder::new(&mut bytes, w, h);
+            encoder.set_color(png::ColorType::Rgb);
+            encoder.set_depth(png::BitDepth::Eight);
+            let mut writer = encoder.write_header()?;
+            writer.write_image_data(&buf)?;
+        }
+        super::write_atomic(path, &bytes)?;
+        Ok(())
+    }
+
+    fn size(&self) -> (u32, u32) {
+        let w = 260 + 110 * self.xs.len() as u32;
+        let h = 170 + 90 * self.ys.len() as u32;
+        (w.max(560), h.max(300))
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        register_font();
+        root.fill(&WHITE)?;
+        let (w, h) = root.dim_in_pixel();
+        let (left, right, top, bottom) = (100i32, 170i32, 30i32, 70i32);
+        let plot_w = w as i32 - left - right;
+        let plot_h = h as i32 - top - bottom;
+        let nx = self.xs.len().max(1) as i32;
+        let ny = self.ys.len().max(1) as i32;
+        let px = |xi: usize| left + (2 * xi as i32 + 1) * plot_w / (2 * nx);
+        let py = |yi: usize| top + plot_h - (2 * yi as i32 + 1) * plot_h / (2 * ny);
+        let font = ("sans-serif", 15).into_font();
+        let small = ("sans-serif", 13).into_font();
+        root.draw(&Rectangle::new(
+            [(left, top), (left + plot_w, top + plot_h)],
+            BLACK.stroke_width(1),
+        ))?;
+        for (xi, v) in self.xs.iter().enumerate() {
+            root.draw(&PathElement::new(
+                vec![(px(xi), top + plot_h), (px(xi), top + plot_h + 5)],
+                BLACK,
+            ))?;
+            root.draw(&Text::new(
+                fmt_value(*v),
+                (px(xi) - 12, top + plot_h + 10),
+                small.clone(),
+            ))?;
+        }
+        root.draw(&Text::new(
+            self.x.clone(),
+            (left + plot_w / 2 - 60, top + plot_h + 38),
+            font.clone(),
+        ))?;
+        if let Some(y) = &self.y {
+            for (yi, v) in self.ys.iter().enumerate() {
+                root.draw(&PathElement::new(
+                    vec![(left - 5, py(yi)), (left, py(yi))],
+                    BLACK,
+                ))?;
+                root.draw(&Text::new(
+                    fmt_value(*v),
+                    (left - 45, py(yi) - 3),
+                    small.clone(),
+                ))?;
+            }
+            root.draw(&Text::new(
+                y.clone(),
+                (8, top + plot_h / 2),
+                font.clone().transform(FontTransform::Rotate270),
+            ))?;
+        }
+        let mut legend: Vec<String> = Vec::new();
+        for (&(xi, yi), cell) in &self.cells {
+            let (x, y) = (px(xi), py(yi));
+            match cell.main_label() {
+                Some((label, humps)) => {
+                    draw_marker(root, &label, (x, y), 11)?;
+                    if humps > 0 {
+                        root.draw(&Text::new(
+                            format!("{humps}"),
+                            (x + 14, y - 20),
+                            font.clone(),
+                        ))?;
+                    }
+                    if cell.labels.iter().any(|l| l.0 != label) {
+                        root.draw(&Text::new("*", (x - 20, y - 20), font.clone()))?;
+                    }
+                    if !legend.contains(&label) {
+                        legend.push(label);
+                    }
+                }
+                None => {
+                    root.draw(&Circle::new((x, y), 4, RGBColor(180, 180, 180).filled()))?;
+                }
+            }
+        }
+        legend.sort();
+        let lx = left + plot_w + 20;
+        for (i, label) in legend.iter().enumerate() {
+            let ly = top + 12 + 26 * i as i32;
+            draw_marker(root, label, (lx + 8, ly), 8)?;
+            root.draw(&Text::new(label.clone(), (lx + 24, ly - 8), small.clone()))?;
+        }
+        Ok(())
+    }
+}
+
+/// The marker of a structure label (shape and colour), thesis-like.
+fn draw_marker<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    label: &str,
+    (x, y): (i32, i32),
+    r: i32,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let blue = RGBColor(31, 119, 180);
+    let red = RGBColor(214, 39, 40);
+    let green = RGBColor(44, 160, 44);
+    let orange = RGBColor(255, 127, 14);
+    let purple = RGBColor(148, 103, 189);
+    let grey = RGBColor(120, 120, 120);
+    match label {
+        "homogeneous" => root.draw(&Circle::new((x, y), r, grey.stroke_width(2))),
+        "plug" => root.draw(&Rectangle::new(
+            [(x - r, y - r), (x + r, y + r)],
+            blue.filled(),
+        )),
+        "s-wave" => root.draw(&Polygon::new(
+            vec![(x, y - r - 2), (x - r - 1, y + r), (x + r + 1, y + r)],
+            red.filled(),
+        )),
+        "slug" => root.draw(&Circle::new((x, y), r, green.filled())),
+        "wavy-slug" => root.draw(&Polygon::new(
+            vec![
+                (x, y - r - 2),
+                (x + r + 2, y),
+                (x, y + r + 2),
+                (x - r - 2, y),
+            ],
+            orange.filled(),
+        )),
+        "s-wave+slug" => {
+            root.draw(&Circle::new((x, y), r, green.filled()))?;
+            root.draw(&Polygon::new(
+                vec![
+                    (x, y - r / 2 - 2),
+                    (x - r / 2 - 1, y + r / 2),
+                    (x + r / 2 + 1, y + r / 2),
+                ],
+                red.filled(),
+            ))
+        }
+        "not-steady" => root.draw(&Cross::new((x, y), r, grey.stroke_width(2))),
+        _ => root.draw(&Circle::new((x, y), r, purple.stroke_width(2))),
+    }
+}
+
+fn register_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // DejaVu Sans Mono (free licence, see src/sweep/fonts/LICENSE): embedded so that the
+        // PNG needs no system fonts
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            include_bytes!("fonts/DejaVuSansMono.ttf"),
+        );
+    });
+}
+
+/// A parameter value as written in tables and plots (shortest round-trip form).
+pub fn fmt_value(v: f64) -> String {
+    format!("{v}")
+}

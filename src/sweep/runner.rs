@@ -1,0 +1,291 @@
+//! The local runner: claims jobs that are not done, runs them on a rayon pool (largest estimated
+//! work first), shows one progress line for the sweep and one per running job, and hands every
+//! outcome to a single writer thread over a crossbeam channel.
+
+use super::execute::{self, JobEnd, JobResult};
+use super::grid::PlannedJob;
+use super::queue::{self, Claim, JobState, NotClaimed};
+use super::{Sweep, SweepDirs, tables};
+use crossbeam_channel::unbounded;
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Options of a run.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// worker threads (jobs run at once)
+    pub threads: usize,
+    /// retry jobs that failed before
+    pub retry_failed: bool,
+    /// only jobs whose plan index lies in [start, end)
+    pub job_range: Option<(usize, usize)>,
+    /// write the tables at the end
+    pub write_tables: bool,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            retry_failed: false,
+            job_range: None,
+            write_tables: true,
+        }
+    }
+}
+
+/// What a run did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunSummary {
+    /// jobs selected (plan or range)
+    pub selected: usize,
+    /// done before this run started
+    pub already_done: usize,
+    /// finished by this run
+    pub finished: usize,
+    /// failed in this run
+    pub failed: usize,
+    /// skipped: failed earlier (without --retry-failed)
+    pub skipped_failed: usize,
+    /// skipped: held by another runner
+    pub busy: usize,
+}
+
+enum Outcome {
+    Finished(Box<JobResult>),
+    Failed(String),
+}
+
+struct Message {
+    job: usize,
+    claim: Claim,
+    outcome: Outcome,
+}
+
+/// Select the jobs of a plan in `range` (plan indices [start, end)).
+pub fn select(plan: &[PlannedJob], range: Option<(usize, usize)>) -> Vec<&PlannedJob> {
+    plan.iter()
+        .filter(|j| range.is_none_or(|(a, b)| j.index >= a && j.index < b))
+        .collect()
+}
+
+/// Run the jobs of a sweep that are not done yet; write the tables at the end.
+pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::Result<RunSummary> {
+    sweep.write_resolved(dirs)?;
+    let selected = select(&sweep.plan, opts.job_range);
+    let mut summary = RunSummary {
+        selected: selected.len(),
+        ..Default::default()
+    };
+    let mut todo = Vec::new();
+    for job in &selected {
+        let dir = dirs.job_dir(&job.id);
+        queue::init_job_dir(&dir, job)?;
+        match queue::job_state(&dir) {
+            JobState::Done => summary.already_done += 1,
+            JobState::Failed(_) if !opts.retry_failed => summary.skipped_failed += 1,
+            _ => todo.push(*job),
+        }
+    }
+    // largest estimated work first; plan order among equals
+    todo.sort_by(|a, b| {
+        b.params
+            .estimated_work()
+            .total_cmp(&a.params.estimated_work())
+            .then(a.index.cmp(&b.index))
+    });
+
+    let interactive = std::io::stderr().is_terminal();
+    let multi = MultiProgress::new();
+    if !interactive {
+        multi.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    let say = |line: String| {
+        if interactive {
+            let _ = multi.println(line);
+        } else {
+            println!("{line}");
+        }
+    };
+    let total_work: f64 = todo.iter().map(|j| j.params.estimated_work()).sum();
+    let overall = multi.add(ProgressBar::new(total_work.max(1.0) as u64));
+    overall.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {msg} ETA {eta}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let done_count = AtomicUsize::new(summary.already_done);
+    let set_overall = |done: usize| {
+        overall.set_prefix(format!(
+            "{}: {done}/{} jobs done",
+            sweep.name,
+            selected.len()
+        ));
+    };
+    set_overall(summary.already_done);
+    say(format!(
+        "sweep {}: {} jobs selected, {} done, {} to run on {} threads (results in {})",
+        sweep.name,
+        selected.len(),
+        summary.already_done,
+        todo.len(),
+        opts.threads,
+        dirs.tables.display()
+    ));
+
+    let (tx, rx) = unbounded::<Message>();
+    let next = AtomicUsize::new(0);
+    let busy = AtomicUsize::new(0);
+    let counts = Mutex::new((0usize, 0usize));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.max(1))
+        .build()?;
+    std::thread::scope(|scope| {
+        // the single writer: stores outcomes, then releases the claim
+        let writer = scope.spawn(|| {
+            for msg in rx {
+                let job = &sweep.plan[msg.job];
+                let dir = &msg.claim.dir;
+                let line = match &msg.outcome {
+                    Outcome::Finished(result) => match execute::write_result(dir, result) {
+                        Ok(()) => {
+                            let _ = queue::log(dir, "done");
+                            counts.lock().expect("counts").0 += 1;
+                            format!(
+                                "done    {} [{}]: {} ({} humps), {:.1} s, {:.3e} events/s",
+                                job.id,
+                                job.index,
+                                result.analysis.summary.label,
+                                result.analysis.summary.humps,
+                                result.wall_seconds,
+                                result.events_per_second
+                            )
+                        }
+                        Err(e) => {
+                            let _ = queue::mark_failed(dir, &format!("writing the result: {e:#}"));
+                            counts.lock().expect("counts").1 += 1;
+                            format!(
+                                "FAILED  {} [{}]: writing the result: {e:#}",
+                                job.id, job.index
+                            )
+                        }
+                    },
+                    Outcome::Failed(err) => {
+                        let _ = queue::mark_failed(dir, err);
+                        counts.lock().expect("counts").1 += 1;
+                        format!("FAILED  {} [{}]: {err}", job.id, job.index)
+                    }
+                };
+                drop(msg.claim);
+                let done = done_count.fetch_add(1, Ordering::Relaxed) + 1;
+                set_overall(done);
+                say(line);
+            }
+        });
+        pool.scope(|s| {
+            for _ in 0..opts.threads.max(1) {
+                let tx = tx.clone();
+                s.spawn(|_| {
+                    let tx = tx;
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(job) = todo.get(i) else { break };
+                        let dir = dirs.job_dir(&job.id);
+                        let claim = match queue::try_claim(&dir, opts.retry_failed) {
+                            Ok(Ok(c)) => c,
+                            Ok(Err(NotClaimed::Busy)) => {
+                                busy.fetch_add(1, Ordering::Relaxed);
+                                say(format!(
+                                    "busy    {} [{}]: held by another runner",
+                                    job.id, job.index
+                                ));
+                                continue;
+                            }
+                            Ok(Err(_)) => continue,
+                            Err(e) => {
+                                say(format!(
+                                    "error   {} [{}]: cannot claim: {e}",
+                                    job.id, job.index
+                                ));
+                                continue;
+                            }
+                        };
+                        let bar = multi.insert_before(&overall, ProgressBar::new(1000));
+                        bar.set_style(
+                            ProgressStyle::with_template("  {prefix} [{bar:20}] {msg}")
+                                .expect("valid template")
+                                .progress_chars("=> "),
+                        );
+                        bar.set_prefix(job.id.0.clone());
+                        let n = job.params.particles() as f64;
+                        let mut last_cpp = execute::checkpoint_progress(&dir).unwrap_or(0.0);
+                        overall.inc((last_cpp * n / 2.0) as u64);
+                        let mut on_progress = |p: execute::JobProgress| {
+                            bar.set_position(
+                                (1000.0 * p.collisions_per_particle / p.target) as u64,
+                            );
+                            bar.set_message(format!(
+                                "{:.0}/{:.0} coll/particle, {:.2e} events/s",
+                                p.collisions_per_particle, p.target, p.events_per_second
+                            ));
+                            let delta = (p.collisions_per_particle - last_cpp).max(0.0);
+                            overall.inc((delta * n / 2.0) as u64);
+                            last_cpp = p.collisions_per_particle;
+                        };
+                        let outcome =
+                            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                                execute::run_job(job, &claim, None, &mut on_progress)
+                            }));
+                        bar.finish_and_clear();
+                        multi.remove(&bar);
+                        let outcome = match outcome {
+                            Ok(Ok(JobEnd::Finished(result))) => Outcome::Finished(result),
+                            Ok(Ok(JobEnd::Stopped)) => Outcome::Failed("stopped early".into()),
+                            Ok(Err(e)) => Outcome::Failed(format!("{e:#}")),
+                            Err(panic) => Outcome::Failed(format!(
+                                "panic: {}",
+                                panic
+                                    .downcast_ref::<String>()
+                                    .cloned()
+                                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                                    .unwrap_or_default()
+                            )),
+                        };
+                        let _ = tx.send(Message {
+                            job: job.index,
+                            claim,
+                            outcome,
+                        });
+                    }
+                });
+            }
+        });
+        drop(tx);
+        writer.join().expect("writer thread");
+    });
+    overall.finish_and_clear();
+    let (finished, failed) = *counts.lock().expect("counts");
+    summary.finished = finished;
+    summary.failed = failed;
+    summary.busy = busy.load(Ordering::Relaxed);
+    if opts.write_tables {
+        let written = tables::gather(sweep, dirs)?;
+        say(format!(
+            "tables: {} jobs ({} done) in {}",
+            written.jobs,
+            written.done,
+            dirs.tables.display()
+        ));
+    }
+    say(format!(
+        "run finished: {} done now ({} before), {} failed, {} skipped as failed, {} held by another runner",
+        summary.finished,
+        summary.already_done,
+        summary.failed,
+        summary.skipped_failed,
+        summary.busy
+    ));
+    Ok(summary)
+}
