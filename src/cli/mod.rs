@@ -2,6 +2,7 @@
 
 mod bench;
 mod sim;
+mod slurm;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -20,6 +21,8 @@ pub enum Command {
     Sim(sim::SimArgs),
     /// Measure engine speed on standard workloads (collisions/s, events/s, memory).
     Bench(bench::BenchArgs),
+    /// Run a sweep on a Slurm cluster as job arrays (submit), or show it in Slurm (status).
+    Slurm(slurm::SlurmArgs),
 }
 
 /// Exit code for bad input (files, keys, values).
@@ -31,6 +34,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Sim(args) => sim::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Slurm(args) => slurm::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
