@@ -64,7 +64,10 @@ fn wait_for(
         if done(&st) {
             return st;
         }
-        assert!(start.elapsed() < timeout, "timed out waiting for {what}; last status:\n{st}");
+        assert!(
+            start.elapsed() < timeout,
+            "timed out waiting for {what}; last status:\n{st}"
+        );
         std::thread::sleep(Duration::from_secs(3));
     }
 }
@@ -84,7 +87,10 @@ fn cancel_and_requeue(array: &str, index: usize) {
     run_ok(Command::new("scancel").arg(&task));
     let start = Instant::now();
     while squeue_state(array, index) != "CANCELLED" {
-        assert!(start.elapsed() < Duration::from_secs(60), "{task} did not get cancelled");
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "{task} did not get cancelled"
+        );
         std::thread::sleep(Duration::from_millis(500));
     }
     run_ok(Command::new("scontrol").args(["requeue", &task]));
@@ -179,8 +185,7 @@ fn timelines(sweep_dir: &Path, jobs: usize) -> Vec<(f64, f64)> {
 }
 
 fn max_overlap(spans: &[(f64, f64)]) -> usize {
-    let mut events: Vec<(f64, i32)> =
-        spans.iter().flat_map(|&(a, b)| [(a, 1), (b, -1)]).collect();
+    let mut events: Vec<(f64, i32)> = spans.iter().flat_map(|&(a, b)| [(a, 1), (b, -1)]).collect();
     events.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
     let (mut now, mut max) = (0i32, 0i32);
     for (_, d) in events {
@@ -233,13 +238,21 @@ fn arrays_throttle_requeue_and_status_with_a_stand_in_runner() {
     let out = slurm::submit(&link, &opts).unwrap();
     assert_eq!(out.array_job_ids.len(), 3, "{out:?}");
     let sweep_dir = out.sweep.sweep_dir.clone();
-    let status = || slurm::slurm_status_with(&link, &sweep_dir).unwrap().unwrap();
+    let status = || {
+        slurm::slurm_status_with(&link, &sweep_dir)
+            .unwrap()
+            .unwrap()
+    };
 
     // Cancel job0's task once it has a checkpoint, then requeue it.
     let first = out.array_job_ids[0].clone();
     let start = Instant::now();
     while !sweep_dir.join("jobs/job0/checkpoint").exists() {
-        assert!(start.elapsed() < Duration::from_secs(120), "job0 never started:\n{}", status());
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "job0 never started:\n{}",
+            status()
+        );
         std::thread::sleep(Duration::from_millis(200));
     }
     cancel_and_requeue(&first, 0);
@@ -249,7 +262,12 @@ fn arrays_throttle_requeue_and_status_with_a_stand_in_runner() {
         "requeued task should be pending:\n{st}"
     );
 
-    let st = wait_for("the stand-in sweep", Duration::from_secs(600), status, |s| s.is_settled());
+    let st = wait_for(
+        "the stand-in sweep",
+        Duration::from_secs(600),
+        status,
+        |s| s.is_settled(),
+    );
     let counts = st.counts();
     assert_eq!(counts.get("done"), Some(&4), "{st}");
     assert_eq!(counts.get("failed"), Some(&1), "{st}");
@@ -257,7 +275,10 @@ fn arrays_throttle_requeue_and_status_with_a_stand_in_runner() {
     assert_eq!(failed.job_id, "job3");
     assert_eq!(
         failed.state,
-        JobSlurmState::Failed { why: "deliberate failure".into(), exit_code: Some(1) }
+        JobSlurmState::Failed {
+            why: "deliberate failure".into(),
+            exit_code: Some(1)
+        }
     );
     assert!(failed.log.is_file(), "{}", failed.log.display());
     let text = st.to_string();
@@ -265,28 +286,50 @@ fn arrays_throttle_requeue_and_status_with_a_stand_in_runner() {
 
     // Throttle: at most 2 jobs ever ran at once, across the three arrays.
     let spans = timelines(&sweep_dir, jobs);
-    assert!(max_overlap(&spans) <= 2, "more than 2 tasks at once: {spans:?}");
+    assert!(
+        max_overlap(&spans) <= 2,
+        "more than 2 tasks at once: {spans:?}"
+    );
     // Requeue: one log, two attempts, the second resumed from job0's checkpoint.
     let log0 = std::fs::read_to_string(&st.jobs[0].log).unwrap();
-    assert!(log0.contains(" attempt 1 ") && log0.contains(" attempt 2 "), "{log0}");
+    assert!(
+        log0.contains(" attempt 1 ") && log0.contains(" attempt 2 "),
+        "{log0}"
+    );
     let second = &log0[log0.find(" attempt 2 ").unwrap()..];
-    assert!(second.contains("job0 resuming from checkpoint step"), "{log0}");
+    assert!(
+        second.contains("job0 resuming from checkpoint step"),
+        "{log0}"
+    );
     // Every job finished exactly once (job3 failed once, never finished).
     for i in 0..jobs {
         let want = usize::from(i != 3);
-        assert_eq!(count_in_logs(&sweep_dir, &format!("FINISH job{i}")), want, "job{i}");
+        assert_eq!(
+            count_in_logs(&sweep_dir, &format!("FINISH job{i}")),
+            want,
+            "job{i}"
+        );
     }
     let runs_before = count_in_logs(&sweep_dir, "RUN job1");
 
     // Resubmitting the finished sweep: every task is a no-op and exits 0.
     let again = slurm::submit(&link, &opts).unwrap();
-    let st = wait_for("the no-op resubmission", Duration::from_secs(300), status, |s| {
-        s.is_settled()
-            && again.array_job_ids.iter().all(|a| {
-                (0..2).all(|i| !matches!(squeue_state(a, i).as_str(), "PENDING" | "RUNNING"))
-            })
-    });
-    assert!(st.jobs.iter().all(|j| again.array_job_ids.contains(&j.task.array_job_id)));
+    let st = wait_for(
+        "the no-op resubmission",
+        Duration::from_secs(300),
+        status,
+        |s| {
+            s.is_settled()
+                && again.array_job_ids.iter().all(|a| {
+                    (0..2).all(|i| !matches!(squeue_state(a, i).as_str(), "PENDING" | "RUNNING"))
+                })
+        },
+    );
+    assert!(
+        st.jobs
+            .iter()
+            .all(|j| again.array_job_ids.contains(&j.task.array_job_id))
+    );
     assert_eq!(st.counts().get("done"), Some(&4), "{st}");
     assert_eq!(count_in_logs(&sweep_dir, "RUN job1"), runs_before);
     for j in &st.jobs {
@@ -330,7 +373,12 @@ fn sweep_dir_under(root: &Path) -> PathBuf {
         .map(|e| e.unwrap().path())
         .filter(|p| p.join("jobs").is_dir())
         .collect();
-    assert_eq!(dirs.len(), 1, "expected one sweep directory under {}: {dirs:?}", root.display());
+    assert_eq!(
+        dirs.len(),
+        1,
+        "expected one sweep directory under {}: {dirs:?}",
+        root.display()
+    );
     dirs.into_iter().next().unwrap()
 }
 
@@ -340,7 +388,10 @@ fn files_with_mtimes(dir: &Path, out: &mut BTreeMap<PathBuf, std::time::SystemTi
         if p.is_dir() {
             files_with_mtimes(&p, out);
         } else {
-            out.insert(p.clone(), std::fs::metadata(&p).unwrap().modified().unwrap());
+            out.insert(
+                p.clone(),
+                std::fs::metadata(&p).unwrap().modified().unwrap(),
+            );
         }
     }
 }
@@ -354,14 +405,21 @@ fn read_parquet(path: &Path) -> polars::prelude::DataFrame {
 /// Columns that must agree between two runs of the same jobs: the id, the labels and every
 /// integer column (counts) except wall-clock ones.
 fn comparable_columns(df: &polars::prelude::DataFrame) -> Vec<String> {
-    df.get_columns()
+    df.columns()
         .iter()
         .filter(|c| {
             let name = c.name().to_lowercase();
             let integer = c.dtype().is_integer();
             let text = c.dtype() == &polars::prelude::DataType::String;
-            let clock = ["wall", "time", "per_s", "rate", "elapsed"].iter().any(|w| name.contains(w));
-            !clock && (integer || (text && (name.contains("id") || name.contains("label") || name.contains("state"))))
+            let clock = ["wall", "time", "per_s", "rate", "elapsed"]
+                .iter()
+                .any(|w| name.contains(w));
+            !clock
+                && (integer
+                    || (text
+                        && (name.contains("id")
+                            || name.contains("label")
+                            || name.contains("state"))))
         })
         .map(|c| c.name().to_string())
         .collect()
@@ -391,7 +449,11 @@ fn sweep_on_slurm_equals_local_run() {
     // 1. The local run, and its tables.
     let local_root = root.join("local");
     let mut c = granflow();
-    c.arg("run").arg(SWEEP).arg("--results").arg(&local_root).args(["--threads", "2"]);
+    c.arg("run")
+        .arg(SWEEP)
+        .arg("--results")
+        .arg(&local_root)
+        .args(["--threads", "2"]);
     run_ok(&mut with_sets(c));
     let local_dir = sweep_dir_under(&local_root);
     run_ok(granflow().arg("gather").arg(&local_dir));
@@ -399,9 +461,17 @@ fn sweep_on_slurm_equals_local_run() {
     // 2. The same sweep on Slurm, at most 2 tasks at once.
     let slurm_root = root.join("slurm");
     let mut c = granflow();
-    c.args(["slurm", "submit", SWEEP, "--max-parallel", "2", "--cpus-per-task", "1"])
-        .args(["--time", "60:00", "--results"])
-        .arg(&slurm_root);
+    c.args([
+        "slurm",
+        "submit",
+        SWEEP,
+        "--max-parallel",
+        "2",
+        "--cpus-per-task",
+        "1",
+    ])
+    .args(["--time", "60:00", "--results"])
+    .arg(&slurm_root);
     let printed = run_ok(&mut with_sets(c));
     let arrays: Vec<String> = printed
         .lines()
@@ -410,9 +480,16 @@ fn sweep_on_slurm_equals_local_run() {
         .collect();
     assert_eq!(arrays.len(), 1, "{printed}");
     let sweep_dir = sweep_dir_under(&slurm_root);
-    let status = || slurm::slurm_status(&sweep_dir).unwrap().expect("submitted sweep");
+    let status = || {
+        slurm::slurm_status(&sweep_dir)
+            .unwrap()
+            .expect("submitted sweep")
+    };
     let n_jobs = status().jobs.len();
-    assert!(n_jobs >= 3, "the test sweep should have a handful of jobs, has {n_jobs}");
+    assert!(
+        n_jobs >= 3,
+        "the test sweep should have a handful of jobs, has {n_jobs}"
+    );
 
     // 3. Cancel a running task once its job has written a checkpoint; requeue it.
     let has_checkpoint = |id: &str| {
@@ -421,11 +498,16 @@ fn sweep_on_slurm_equals_local_run() {
                 .any(|e| e.file_name().to_string_lossy().contains("checkpoint"))
         })
     };
-    let st = wait_for("a running job with a checkpoint", Duration::from_secs(600), status, |s| {
-        s.jobs.iter().any(|j| {
-            matches!(j.state, JobSlurmState::Running { .. }) && has_checkpoint(&j.job_id)
-        })
-    });
+    let st = wait_for(
+        "a running job with a checkpoint",
+        Duration::from_secs(600),
+        status,
+        |s| {
+            s.jobs.iter().any(|j| {
+                matches!(j.state, JobSlurmState::Running { .. }) && has_checkpoint(&j.job_id)
+            })
+        },
+    );
     let victim = st
         .jobs
         .iter()
@@ -435,8 +517,14 @@ fn sweep_on_slurm_equals_local_run() {
     cancel_and_requeue(&victim.task.array_job_id, victim.task.index);
 
     // 4. Wait for everything (the requeued task waits ~2 min before it runs again).
-    let st = wait_for("the Slurm sweep", Duration::from_secs(1800), status, |s| s.is_settled());
-    assert_eq!(st.counts().get("done"), Some(&n_jobs), "not all jobs done:\n{st}");
+    let st = wait_for("the Slurm sweep", Duration::from_secs(1800), status, |s| {
+        s.is_settled()
+    });
+    assert_eq!(
+        st.counts().get("done"),
+        Some(&n_jobs),
+        "not all jobs done:\n{st}"
+    );
     let log = std::fs::read_to_string(&victim.log).unwrap();
     let second = log
         .find(" attempt 2 ")
@@ -453,12 +541,24 @@ fn sweep_on_slurm_equals_local_run() {
     for table in ["jobs", "spectra", "profiles", "energy"] {
         let local = read_parquet(&local_dir.join(format!("{table}.parquet")));
         let remote = read_parquet(&sweep_dir.join(format!("{table}.parquet")));
-        assert_eq!(local.height(), remote.height(), "{table}.parquet row counts");
+        assert_eq!(
+            local.height(),
+            remote.height(),
+            "{table}.parquet row counts"
+        );
         if table == "jobs" {
-            assert_eq!(remote.height(), n_jobs, "jobs.parquet: one row per job, exactly once");
+            assert_eq!(
+                remote.height(),
+                n_jobs,
+                "jobs.parquet: one row per job, exactly once"
+            );
             let cols = comparable_columns(&local);
             assert!(!cols.is_empty(), "no comparable columns in jobs.parquet");
-            assert_eq!(sorted_rows(&local, &cols), sorted_rows(&remote, &cols), "{cols:?}");
+            assert_eq!(
+                sorted_rows(&local, &cols),
+                sorted_rows(&remote, &cols),
+                "{cols:?}"
+            );
         }
     }
 
@@ -466,25 +566,31 @@ fn sweep_on_slurm_equals_local_run() {
     let mut before = BTreeMap::new();
     files_with_mtimes(&sweep_dir.join("jobs"), &mut before);
     let mut c = granflow();
-    c.args(["slurm", "submit", SWEEP, "--max-parallel", "2", "--results"]).arg(&slurm_root);
+    c.args(["slurm", "submit", SWEEP, "--max-parallel", "2", "--results"])
+        .arg(&slurm_root);
     let printed = run_ok(&mut with_sets(c));
     let again: Vec<String> = printed
         .lines()
         .filter_map(|l| l.strip_prefix("submitted array job "))
         .map(str::to_string)
         .collect();
-    let st = wait_for("the no-op resubmission", Duration::from_secs(600), status, |s| {
-        s.is_settled()
-            && s.jobs.iter().all(|j| {
-                again.contains(&j.task.array_job_id)
-                    && slurm::status::read_task_exit(&slurm::script::task_exit_file(
-                        &sweep_dir,
-                        &j.task.array_job_id,
-                        j.task.index,
-                    ))
-                    .is_some()
-            })
-    });
+    let st = wait_for(
+        "the no-op resubmission",
+        Duration::from_secs(600),
+        status,
+        |s| {
+            s.is_settled()
+                && s.jobs.iter().all(|j| {
+                    again.contains(&j.task.array_job_id)
+                        && slurm::status::read_task_exit(&slurm::script::task_exit_file(
+                            &sweep_dir,
+                            &j.task.array_job_id,
+                            j.task.index,
+                        ))
+                        .is_some()
+                })
+        },
+    );
     for j in &st.jobs {
         let exit = slurm::status::read_task_exit(&slurm::script::task_exit_file(
             &sweep_dir,
@@ -492,10 +598,19 @@ fn sweep_on_slurm_equals_local_run() {
             j.task.index,
         ))
         .unwrap();
-        assert_eq!(exit.code, 0, "no-op task for {} failed; log {}", j.job_id, j.log.display());
+        assert_eq!(
+            exit.code,
+            0,
+            "no-op task for {} failed; log {}",
+            j.job_id,
+            j.log.display()
+        );
     }
     let mut after = BTreeMap::new();
     files_with_mtimes(&sweep_dir.join("jobs"), &mut after);
-    assert_eq!(before, after, "a task rewrote files of a job that was already done");
+    assert_eq!(
+        before, after,
+        "a task rewrote files of a job that was already done"
+    );
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -169,5 +169,11 @@ pub fn analyse_job(records: &[SnapshotRecord], _settings: &AnalysisSettings) -> 
         mean_rotational_energy: f64::NAN,
         slip_velocity: f64::NAN,
     };
-    JobAnalysis { summary, spectra: Vec::new(), profiles: Vec::new(), energy, evolution: Vec::new() }
+    JobAnalysis {
+        summary,
+        spectra: Vec::new(),
+        profiles: Vec::new(),
+        energy,
+        evolution: Vec::new(),
+    }
 }

@@ -155,7 +155,14 @@ mod tests {
     fn pass_through_options_keep_their_values() {
         let t = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
         assert_eq!(
-            group_sbatch_options(&t(&["--account=abc", "--qos", "normal", "-N", "1", "--exclusive"])),
+            group_sbatch_options(&t(&[
+                "--account=abc",
+                "--qos",
+                "normal",
+                "-N",
+                "1",
+                "--exclusive"
+            ])),
             t(&["--account=abc", "--qos normal", "-N 1", "--exclusive"])
         );
     }

@@ -38,8 +38,12 @@ pub enum JobDirState {
 /// What `granflow slurm` needs from the sweep runner.
 pub trait SweepLink {
     /// Resolve, write the resolved sweep into its results directory, list the jobs.
-    fn prepare(&self, sweep_file: &Path, results: Option<&Path>, sets: &[String])
-    -> Result<PreparedSweep>;
+    fn prepare(
+        &self,
+        sweep_file: &Path,
+        results: Option<&Path>,
+        sets: &[String],
+    ) -> Result<PreparedSweep>;
     /// The state recorded in `sweep_dir/jobs/<job_id>/`.
     fn job_state(&self, sweep_dir: &Path, job_id: &str) -> Result<JobDirState>;
 }

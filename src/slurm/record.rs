@@ -198,7 +198,10 @@ mod tests {
         append(&dir, submission(&["a"], 1, &[("10", 0, 1)])).unwrap();
         append(&dir, submission(&["a"], 1, &[("12", 0, 1)])).unwrap();
         let log = SubmissionLog::read(&dir).unwrap().unwrap();
-        assert_eq!(log.array_job_ids(), vec!["10".to_string(), "12".to_string()]);
+        assert_eq!(
+            log.array_job_ids(),
+            vec!["10".to_string(), "12".to_string()]
+        );
         fs::write(log_path(&dir), "{ not json").unwrap();
         let err = SubmissionLog::read(&dir).unwrap_err();
         assert!(format!("{err:#}").contains("submissions.json"));

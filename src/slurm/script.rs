@@ -249,7 +249,14 @@ mod tests {
 
     #[test]
     fn header_has_array_throttle_requeue_logs_and_pass_through_options() {
-        let s = example(ArrayChunk { first_task: 0, tasks: 3 }, Some(2)).render();
+        let s = example(
+            ArrayChunk {
+                first_task: 0,
+                tasks: 3,
+            },
+            Some(2),
+        )
+        .render();
         assert!(s.starts_with("#!/bin/bash\n"));
         let lines = sbatch_lines(&s);
         for want in [
@@ -271,15 +278,33 @@ mod tests {
             .lines()
             .position(|l| !l.starts_with('#') && !l.trim().is_empty())
             .unwrap();
-        let last_sbatch = s.lines().rposition(|l| l.starts_with("#SBATCH")).unwrap();
+        let lines: Vec<&str> = s.lines().collect();
+        let last_sbatch = lines
+            .iter()
+            .rposition(|l| l.starts_with("#SBATCH"))
+            .unwrap();
         assert!(last_sbatch < first_cmd);
-        let unthrottled = example(ArrayChunk { first_task: 0, tasks: 3 }, None).render();
+        let unthrottled = example(
+            ArrayChunk {
+                first_task: 0,
+                tasks: 3,
+            },
+            None,
+        )
+        .render();
         assert!(sbatch_lines(&unthrottled).contains(&"--array=0-2"));
     }
 
     #[test]
     fn command_is_the_runner_with_quoted_paths_and_overrides() {
-        let s = example(ArrayChunk { first_task: 2, tasks: 1 }, None).render();
+        let s = example(
+            ArrayChunk {
+                first_task: 2,
+                tasks: 1,
+            },
+            None,
+        )
+        .render();
         let cmd = s.lines().find(|l| l.contains(" run ")).unwrap();
         assert_eq!(
             cmd,
@@ -300,7 +325,10 @@ mod tests {
         std::fs::write(&fake, "#!/bin/bash\necho \"ARGS $*\"\n").unwrap();
         Command::new("chmod").arg("+x").arg(&fake).status().unwrap();
         let (jobs, jpt) = (7usize, 3usize);
-        let chunk = ArrayChunk { first_task: 1, tasks: 2 };
+        let chunk = ArrayChunk {
+            first_task: 1,
+            tasks: 2,
+        };
         let mut script = example(chunk, None);
         script.sweep_dir = dir.clone();
         script.granflow = fake;
@@ -315,13 +343,17 @@ mod tests {
                 .env("SLURM_CPUS_PER_TASK", "4")
                 .output()
                 .unwrap();
-            assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
             let stdout = String::from_utf8_lossy(&out.stdout);
             let r = super::super::split::task_jobs(chunk.first_task + index, jpt, jobs);
             let want = format!("--threads 4 --job-range {}:{}", r.start, r.end);
             assert!(stdout.contains(&want), "{stdout} lacks {want}");
-            let exit = std::fs::read_to_string(dir.join(format!("slurm/tasks/77_{index}.exit")))
-                .unwrap();
+            let exit =
+                std::fs::read_to_string(dir.join(format!("slurm/tasks/77_{index}.exit"))).unwrap();
             assert!(exit.starts_with("0 0 "), "exit record '{exit}'");
         }
         let _ = std::fs::remove_dir_all(&dir);

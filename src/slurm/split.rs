@@ -67,7 +67,10 @@ mod tests {
                         }
                     }
                     assert_eq!(next_task, tasks);
-                    assert!(seen.iter().all(|&c| c == 1), "jobs {jobs} jpt {jpt} max {max}");
+                    assert!(
+                        seen.iter().all(|&c| c == 1),
+                        "jobs {jobs} jpt {jpt} max {max}"
+                    );
                 }
             }
         }
@@ -80,8 +83,14 @@ mod tests {
         assert_eq!(
             split_into_arrays(1002, 1001),
             vec![
-                ArrayChunk { first_task: 0, tasks: 1001 },
-                ArrayChunk { first_task: 1001, tasks: 1 }
+                ArrayChunk {
+                    first_task: 0,
+                    tasks: 1001
+                },
+                ArrayChunk {
+                    first_task: 1001,
+                    tasks: 1
+                }
             ]
         );
         assert!(split_into_arrays(0, 1001).is_empty());

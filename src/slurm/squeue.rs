@@ -47,10 +47,17 @@ pub fn parse_squeue(text: &str) -> Result<QueueView> {
         }
         let fields: Vec<&str> = line.splitn(5, '|').collect();
         if fields.len() != 5 {
-            bail!("squeue line {}: expected 5 '|'-separated fields, got '{line}'", n + 1);
+            bail!(
+                "squeue line {}: expected 5 '|'-separated fields, got '{line}'",
+                n + 1
+            );
         }
         let index: usize = fields[1].trim().parse().with_context(|| {
-            format!("squeue line {}: array task id '{}' is not a single index", n + 1, fields[1])
+            format!(
+                "squeue line {}: array task id '{}' is not a single index",
+                n + 1,
+                fields[1]
+            )
         })?;
         view.insert(
             (fields[0].trim().to_string(), index),
@@ -120,7 +127,10 @@ mod tests {
         let v = parse_squeue(SAMPLE).unwrap();
         assert_eq!(v.len(), 5);
         let t = &v[&("5".to_string(), 1)];
-        assert_eq!((t.state.as_str(), t.nodes.as_str()), ("RUNNING", "localhost"));
+        assert_eq!(
+            (t.state.as_str(), t.nodes.as_str()),
+            ("RUNNING", "localhost")
+        );
         assert_eq!(v[&("5".to_string(), 2)].reason, "JobArrayTaskLimit");
         assert_eq!(v[&("9".to_string(), 0)].nodes, "node[01-02]");
     }

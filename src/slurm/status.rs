@@ -38,14 +38,24 @@ pub fn read_task_exit(path: &Path) -> Option<TaskExit> {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum JobSlurmState {
     /// Waiting in Slurm; `reason` is squeue's (`JobArrayTaskLimit`, `Priority`, `BeginTime`...).
-    Pending { reason: String },
+    Pending {
+        reason: String,
+    },
     /// Its task runs (`state` is RUNNING, COMPLETING, ...) on `nodes`.
-    Running { state: String, nodes: String },
+    Running {
+        state: String,
+        nodes: String,
+    },
     Done,
     /// The runner recorded an error, or the task ended without finishing the job.
-    Failed { why: String, exit_code: Option<i32> },
+    Failed {
+        why: String,
+        exit_code: Option<i32>,
+    },
     /// The task ended with exit 0 but the job is not done (e.g. another runner holds it).
-    Unfinished { why: String },
+    Unfinished {
+        why: String,
+    },
     /// squeue could not be asked and the job directory says neither done nor failed.
     Unknown,
 }
@@ -97,10 +107,12 @@ impl SlurmStatus {
     /// True when no job is pending or running in Slurm (and squeue could be asked).
     pub fn is_settled(&self) -> bool {
         self.queue_error.is_none()
-            && self
-                .jobs
-                .iter()
-                .all(|j| !matches!(j.state, JobSlurmState::Pending { .. } | JobSlurmState::Running { .. }))
+            && self.jobs.iter().all(|j| {
+                !matches!(
+                    j.state,
+                    JobSlurmState::Pending { .. } | JobSlurmState::Running { .. }
+                )
+            })
     }
 }
 
@@ -220,10 +232,20 @@ impl fmt::Display for SlurmStatus {
             self.jobs.len()
         )?;
         if let Some(e) = &self.queue_error {
-            writeln!(f, "  squeue unavailable ({e}); states from the job directories only")?;
+            writeln!(
+                f,
+                "  squeue unavailable ({e}); states from the job directories only"
+            )?;
         }
         let counts = self.counts();
-        let order = ["pending", "running", "done", "failed", "unfinished", "unknown"];
+        let order = [
+            "pending",
+            "running",
+            "done",
+            "failed",
+            "unfinished",
+            "unknown",
+        ];
         let parts: Vec<String> = order
             .iter()
             .filter_map(|k| counts.get(k).map(|n| format!("{n} {k}")))
@@ -243,7 +265,9 @@ impl fmt::Display for SlurmStatus {
                     writeln!(f, "  running    {}  {task}: {state} on {nodes}", j.job_id)?
                 }
                 JobSlurmState::Failed { why, exit_code } => {
-                    let code = exit_code.map(|c| format!(", exit code {c}")).unwrap_or_default();
+                    let code = exit_code
+                        .map(|c| format!(", exit code {c}"))
+                        .unwrap_or_default();
                     writeln!(
                         f,
                         "  failed     {}  {task}{code}: {why}; log {}",
@@ -300,53 +324,101 @@ mod tests {
                     SubmittedArray {
                         array_job_id: "40".into(),
                         script: "s0".into(),
-                        chunk: ArrayChunk { first_task: 0, tasks: 4 },
+                        chunk: ArrayChunk {
+                            first_task: 0,
+                            tasks: 4,
+                        },
                     },
                     SubmittedArray {
                         array_job_id: "41".into(),
                         script: "s1".into(),
-                        chunk: ArrayChunk { first_task: 4, tasks: 2 },
+                        chunk: ArrayChunk {
+                            first_task: 4,
+                            tasks: 2,
+                        },
                     },
                 ],
             }],
         };
         let link = TableLink(BTreeMap::from([
             ("a".to_string(), JobDirState::Done),
-            ("b".to_string(), JobDirState::Failed("phi not placeable".into())),
+            (
+                "b".to_string(),
+                JobDirState::Failed("phi not placeable".into()),
+            ),
         ]));
         // c: running; d: pending (throttled); e: gone from squeue, exit record 3; f: gone, exit 0.
-        std::fs::write(dir.join("slurm/tasks/41_0.exit"), "3 0 2026-11-23T12:00:00\n").unwrap();
-        std::fs::write(dir.join("slurm/tasks/41_1.exit"), "0 1 2026-11-23T12:00:00\n").unwrap();
-        std::fs::write(dir.join("slurm/tasks/40_1.exit"), "1 0 2026-11-23T12:00:00\n").unwrap();
+        std::fs::write(
+            dir.join("slurm/tasks/41_0.exit"),
+            "3 0 2026-11-23T12:00:00\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("slurm/tasks/41_1.exit"),
+            "0 1 2026-11-23T12:00:00\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("slurm/tasks/40_1.exit"),
+            "1 0 2026-11-23T12:00:00\n",
+        )
+        .unwrap();
         let view = parse_squeue(
             "40|0|COMPLETED|None|n1\n40|1|FAILED|NonZeroExitCode|n1\n\
              40|2|RUNNING|None|n2\n40|3|PENDING|JobArrayTaskLimit|\n",
         )
         .unwrap();
         let st = build_status(&link, &dir, &log, Ok(&view)).unwrap();
-        let states: Vec<_> = st.jobs.iter().map(|j| (j.job_id.as_str(), j.state.clone())).collect();
+        let states: Vec<_> = st
+            .jobs
+            .iter()
+            .map(|j| (j.job_id.as_str(), j.state.clone()))
+            .collect();
         assert_eq!(states[0], ("a", JobSlurmState::Done));
         assert_eq!(
             states[1],
             (
                 "b",
-                JobSlurmState::Failed { why: "phi not placeable".into(), exit_code: Some(1) }
+                JobSlurmState::Failed {
+                    why: "phi not placeable".into(),
+                    exit_code: Some(1)
+                }
             )
         );
         assert_eq!(
             states[2],
-            ("c", JobSlurmState::Running { state: "RUNNING".into(), nodes: "n2".into() })
+            (
+                "c",
+                JobSlurmState::Running {
+                    state: "RUNNING".into(),
+                    nodes: "n2".into()
+                }
+            )
         );
         assert_eq!(
             states[3],
-            ("d", JobSlurmState::Pending { reason: "JobArrayTaskLimit".into() })
+            (
+                "d",
+                JobSlurmState::Pending {
+                    reason: "JobArrayTaskLimit".into()
+                }
+            )
         );
-        assert!(matches!(&states[4].1, JobSlurmState::Failed { exit_code: Some(3), .. }));
+        assert!(matches!(
+            &states[4].1,
+            JobSlurmState::Failed {
+                exit_code: Some(3),
+                ..
+            }
+        ));
         assert!(matches!(&states[5].1, JobSlurmState::Unfinished { .. }));
         assert_eq!(st.jobs[4].log, dir.join("slurm/logs/41_0.log"));
         assert!(!st.is_settled());
         let text = st.to_string();
-        assert!(text.contains("1 pending, 1 running, 1 done, 2 failed, 1 unfinished"), "{text}");
+        assert!(
+            text.contains("1 pending, 1 running, 1 done, 2 failed, 1 unfinished"),
+            "{text}"
+        );
         assert!(text.contains("slurm/logs/41_0.log"), "{text}");
         assert!(text.contains("exit code 3"), "{text}");
         // Without squeue, unfinished jobs are unknown and the status says why.
@@ -366,15 +438,24 @@ mod tests {
             arrays: vec![SubmittedArray {
                 array_job_id: array.into(),
                 script: "s".into(),
-                chunk: ArrayChunk { first_task: 0, tasks: 1 },
+                chunk: ArrayChunk {
+                    first_task: 0,
+                    tasks: 1,
+                },
             }],
         };
-        let log = SubmissionLog { submissions: vec![sub("7"), sub("9")] };
+        let log = SubmissionLog {
+            submissions: vec![sub("7"), sub("9")],
+        };
         let view = parse_squeue("9|0|RUNNING|None|n\n").unwrap();
         let link = TableLink(BTreeMap::new());
         let st = build_status(&link, Path::new("/nonexistent"), &log, Ok(&view)).unwrap();
         assert_eq!(st.jobs.len(), 2);
         assert!(st.jobs.iter().all(|j| j.task.array_job_id == "9"));
-        assert!(st.jobs.iter().all(|j| matches!(j.state, JobSlurmState::Running { .. })));
+        assert!(
+            st.jobs
+                .iter()
+                .all(|j| matches!(j.state, JobSlurmState::Running { .. }))
+        );
     }
 }

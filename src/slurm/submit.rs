@@ -53,8 +53,14 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 
 /// Write the scripts and (unless a dry run) submit the arrays.
 pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcome> {
-    ensure!(opts.jobs_per_task >= 1, "--jobs-per-task must be at least 1");
-    ensure!(opts.sbatch.cpus_per_task >= 1, "--cpus-per-task must be at least 1");
+    ensure!(
+        opts.jobs_per_task >= 1,
+        "--jobs-per-task must be at least 1"
+    );
+    ensure!(
+        opts.sbatch.cpus_per_task >= 1,
+        "--cpus-per-task must be at least 1"
+    );
     if let Some(k) = opts.sbatch.max_parallel {
         ensure!(k >= 1, "--max-parallel must be at least 1");
     }
@@ -63,7 +69,10 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
     sweep.results_arg = absolute(&sweep.results_arg)?;
     sweep.sweep_file = absolute(&sweep.sweep_file)?;
     if sweep.job_ids.is_empty() {
-        bail!("{}: the sweep has no jobs, nothing to submit", opts.sweep_file.display());
+        bail!(
+            "{}: the sweep has no jobs, nothing to submit",
+            opts.sweep_file.display()
+        );
     }
     let granflow = match &opts.granflow {
         Some(p) => absolute(p)?,
@@ -73,7 +82,10 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
         Some(m) => (m, "given"),
         None if opts.dry_run => match query_max_array_size() {
             Ok(m) => (m, "scontrol show config"),
-            Err(_) => (DEFAULT_MAX_ARRAY_SIZE, "Slurm's default (scontrol not reachable)"),
+            Err(_) => (
+                DEFAULT_MAX_ARRAY_SIZE,
+                "Slurm's default (scontrol not reachable)",
+            ),
         },
         None => (query_max_array_size()?, "scontrol show config"),
     };
@@ -83,7 +95,11 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
     let chunks = split_into_arrays(tasks, max_array_size);
     let slurm_dir = record::slurm_dir(&sweep.sweep_dir);
     let number = SubmissionLog::read(&sweep.sweep_dir)?.map_or(0, |l| l.submissions.len());
-    for dir in [slurm_dir.join("scripts"), log_dir(&sweep.sweep_dir), exit_dir(&sweep.sweep_dir)] {
+    for dir in [
+        slurm_dir.join("scripts"),
+        log_dir(&sweep.sweep_dir),
+        exit_dir(&sweep.sweep_dir),
+    ] {
         std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let mut scripts = Vec::new();
@@ -194,10 +210,17 @@ fn run_sbatch(mut cmd: Command, script: &Path) -> Result<String> {
 
 /// The job id from `sbatch --parsable` output.
 pub fn parse_parsable(stdout: &str) -> Result<String> {
-    let line = stdout.lines().map(str::trim).rfind(|l| !l.is_empty()).unwrap_or("");
+    let line = stdout
+        .lines()
+        .map(str::trim)
+        .rfind(|l| !l.is_empty())
+        .unwrap_or("");
     let id = line.split(';').next().unwrap_or("").trim();
     if id.is_empty() || !id.chars().all(|c| c.is_ascii_digit()) {
-        bail!("could not read a job id from sbatch --parsable output '{}'", stdout.trim());
+        bail!(
+            "could not read a job id from sbatch --parsable output '{}'",
+            stdout.trim()
+        );
     }
     Ok(id.to_string())
 }
