@@ -153,15 +153,20 @@ impl SweepLink for StandInLink {
         })
     }
 
-    fn job_state(&self, sweep_dir: &Path, job_id: &str) -> anyhow::Result<JobDirState> {
-        let d = sweep_dir.join("jobs").join(job_id);
-        Ok(if d.join("done").exists() {
-            JobDirState::Done
-        } else if let Ok(e) = std::fs::read_to_string(d.join("failed")) {
-            JobDirState::Failed(e.trim().to_string())
-        } else {
-            JobDirState::Unfinished
-        })
+    fn job_states(&self, sweep_dir: &Path, ids: &[String]) -> anyhow::Result<Vec<JobDirState>> {
+        Ok(ids
+            .iter()
+            .map(|id| {
+                let d = sweep_dir.join("jobs").join(id);
+                if d.join("done").exists() {
+                    JobDirState::Done
+                } else if let Ok(e) = std::fs::read_to_string(d.join("failed")) {
+                    JobDirState::Failed(e.trim().to_string())
+                } else {
+                    JobDirState::Unfinished
+                }
+            })
+            .collect())
     }
 }
 

@@ -4,8 +4,8 @@
 //! - [`SweepLink::prepare`]: resolve the sweep file with its `--set` overrides, write the
 //!   resolved sweep into the results directory (idempotent), and list the job ids in
 //!   `granflow plan` order. Array task t runs the jobs at plan positions [t J, (t+1) J).
-//! - [`SweepLink::job_state`]: whether a job's directory says done, failed (with its error)
-//!   or neither.
+//! - [`SweepLink::job_states`]: whether each job's directory says done, failed (with its
+//!   error) or neither.
 
 use anyhow::{Result, bail};
 use std::path::{Path, PathBuf};
@@ -44,8 +44,9 @@ pub trait SweepLink {
         results: Option<&Path>,
         sets: &[String],
     ) -> Result<PreparedSweep>;
-    /// The state recorded in `sweep_dir/jobs/<job_id>/`.
-    fn job_state(&self, sweep_dir: &Path, job_id: &str) -> Result<JobDirState>;
+    /// The states recorded in the job directories of these jobs (same order), for the sweep
+    /// whose results directory (holding the resolved sweep) is `sweep_dir`.
+    fn job_states(&self, sweep_dir: &Path, job_ids: &[String]) -> Result<Vec<JobDirState>>;
 }
 
 /// The real link, backed by the sweep runner (`crate::sweep`).
@@ -53,7 +54,7 @@ pub trait SweepLink {
 /// The sweep runner (`granflow run/plan/status/gather`, branch `sweep`) is being built in
 /// parallel; until it is merged, both methods fail with a clear message. Wiring at merge:
 /// `prepare` = parse + resolve the sweep with `sets`, write the resolved copy and job dirs as
-/// `granflow run` does, return the plan order; `job_state` = the runner's own job-dir reader.
+/// `granflow run` does, return the plan order; `job_states` = the runner's own job-dir reader.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct RunnerLink;
 
@@ -70,10 +71,7 @@ impl SweepLink for RunnerLink {
         bail!("{NOT_WIRED} (preparing {})", sweep_file.display())
     }
 
-    fn job_state(&self, sweep_dir: &Path, job_id: &str) -> Result<JobDirState> {
-        bail!(
-            "{NOT_WIRED} (reading {})",
-            sweep_dir.join("jobs").join(job_id).display()
-        )
+    fn job_states(&self, sweep_dir: &Path, _job_ids: &[String]) -> Result<Vec<JobDirState>> {
+        bail!("{NOT_WIRED} (reading the jobs of {})", sweep_dir.display())
     }
 }

@@ -2,7 +2,7 @@
 //! command each task runs.
 //!
 //! Array index a of an array whose first task is t0 is global task t = t0 + a; it runs
-//! `granflow run <sweep copy> --results <root> --threads $SLURM_CPUS_PER_TASK
+//! `granflow run <resolved sweep> --results <root> --threads $SLURM_CPUS_PER_TASK
 //! --job-range tJ:min((t+1)J, n)`, which claims its jobs through the local runner's locks, skips
 //! jobs already done and resumes a job from its checkpoint. Requeue (`--requeue`, preemption,
 //! node failure) reruns the same task in the same results directory and appends to the same log.
@@ -39,7 +39,8 @@ pub struct ArrayScript {
     pub sweep_file: PathBuf,
     /// The granflow executable the tasks run (absolute; on a shared file system).
     pub granflow: PathBuf,
-    /// `--set key=value` overrides, passed on unchanged.
+    /// `--set key=value` overrides of the submission: already applied in `sweep_file` (the
+    /// resolved sweep records them), so the command does not repeat them; shown as a comment.
     pub sets: Vec<String>,
     /// n, number of jobs in the plan.
     pub total_jobs: usize,
@@ -165,7 +166,7 @@ impl ArrayScript {
              attempt $(( ${{SLURM_RESTART_COUNT:-0}} + 1 )) on $(hostname) at $(date -Is): \
              jobs [$FIRST, $END)\""
         );
-        let mut cmd = vec![
+        let cmd = vec![
             shell_quote(&path_str(&self.granflow)),
             "run".to_string(),
             shell_quote(&path_str(&self.sweep_file)),
@@ -176,9 +177,16 @@ impl ArrayScript {
             "--job-range".to_string(),
             "\"$FIRST:$END\"".to_string(),
         ];
-        for set in &self.sets {
-            cmd.push("--set".to_string());
-            cmd.push(shell_quote(set));
+        if !self.sets.is_empty() {
+            let _ = writeln!(
+                s,
+                "# The overrides {} are applied in the resolved sweep file; not repeated here.",
+                self.sets
+                    .iter()
+                    .map(|x| shell_quote(x))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            );
         }
         let _ = writeln!(s, "{}", cmd.join(" "));
         let _ = writeln!(s, "STATUS=$?");
@@ -310,8 +318,9 @@ mod tests {
             cmd,
             "/home/u/bin/granflow run '/scratch/my results/quick/sweep.ron' \
              --results '/scratch/my results' --threads \"${SLURM_CPUS_PER_TASK:-1}\" \
-             --job-range \"$FIRST:$END\" --set restitution=0.9 --set 'note=it'\\''s'"
+             --job-range \"$FIRST:$END\""
         );
+        assert!(s.contains("# The overrides restitution=0.9 'note=it'\\''s' are applied"));
     }
 
     /// Run the script's arithmetic in bash with a stand-in granflow and compare the job ranges

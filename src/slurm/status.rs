@@ -138,11 +138,19 @@ pub fn build_status(
         }
     }
     let queue_error = queue.as_ref().err().cloned();
+    let ids: Vec<String> = order.iter().map(|s| s.to_string()).collect();
+    let dir_states = link.job_states(sweep_dir, &ids)?;
+    anyhow::ensure!(
+        dir_states.len() == ids.len(),
+        "job states: asked for {} jobs, got {}",
+        ids.len(),
+        dir_states.len()
+    );
     let mut jobs = Vec::with_capacity(order.len());
-    for id in order {
+    for (id, dir_state) in order.into_iter().zip(dir_states) {
         let task = task_of[id].clone();
         let log_path = task_log(sweep_dir, &task.array_job_id, task.index);
-        let state = match link.job_state(sweep_dir, id)? {
+        let state = match dir_state {
             JobDirState::Done => JobSlurmState::Done,
             JobDirState::Failed(err) => JobSlurmState::Failed {
                 why: err,
@@ -302,8 +310,11 @@ mod tests {
         fn prepare(&self, _: &Path, _: Option<&Path>, _: &[String]) -> Result<PreparedSweep> {
             unreachable!()
         }
-        fn job_state(&self, _: &Path, id: &str) -> Result<JobDirState> {
-            Ok(self.0.get(id).cloned().unwrap_or(JobDirState::Unfinished))
+        fn job_states(&self, _: &Path, ids: &[String]) -> Result<Vec<JobDirState>> {
+            Ok(ids
+                .iter()
+                .map(|id| self.0.get(id).cloned().unwrap_or(JobDirState::Unfinished))
+                .collect())
         }
     }
 
