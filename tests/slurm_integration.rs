@@ -352,11 +352,26 @@ fn arrays_throttle_requeue_and_status_with_a_stand_in_runner() {
 // ---------------------------------------------------------------------------------------------
 // The real runner.
 
-/// The sweep run both locally and on Slurm. Its jobs must take long enough (tens of seconds)
-/// for a task to be cancelled after the job wrote a checkpoint.
-const SWEEP: &str = "sweeps/quick.ron";
-/// Overrides applied to both runs (none: `quick.ron` as shipped).
+/// The sweep run both locally and on Slurm: 4 jobs of some 20 s each, long enough for a task
+/// to be cancelled after its job wrote a checkpoint (one per snapshot).
+const SWEEP_RON: &str = r#"(
+    name: Some("slurmtest"),
+    engine: "edmd",
+    fixed: (
+        width_over_diameter: Some(10.0),
+        height_over_diameter: Some(10.0),
+        volume_fraction: Some(0.15),
+    ),
+    axes: (length_over_width: Some([3.0, 4.0]), restitution: Some([0.7, 0.9])),
+    seeds: [1],
+    run: (collisions_per_particle: 3000.0, snapshot_interval: 100.0, checkpoint_every: 1),
+)
+"#;
+/// Overrides applied to both runs.
 const SETS: &[&str] = &[];
+/// A job directory's own log (`sweep::queue::LOG_FILE`): "start", "resume at snapshot k",
+/// "done", "failed: ..." lines.
+const JOB_LOG: &str = "log.txt";
 
 fn granflow() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_granflow"));
@@ -450,12 +465,14 @@ fn sweep_on_slurm_equals_local_run() {
     }
     let _cluster = CLUSTER.lock().unwrap_or_else(|e| e.into_inner());
     let root = scratch("slurm-sweep");
+    let sweep_file = root.join("slurmtest.ron");
+    std::fs::write(&sweep_file, SWEEP_RON).unwrap();
 
     // 1. The local run, and its tables.
     let local_root = root.join("local");
     let mut c = granflow();
     c.arg("run")
-        .arg(SWEEP)
+        .arg(&sweep_file)
         .arg("--results")
         .arg(&local_root)
         .args(["--threads", "2"]);
@@ -466,17 +483,11 @@ fn sweep_on_slurm_equals_local_run() {
     // 2. The same sweep on Slurm, at most 2 tasks at once.
     let slurm_root = root.join("slurm");
     let mut c = granflow();
-    c.args([
-        "slurm",
-        "submit",
-        SWEEP,
-        "--max-parallel",
-        "2",
-        "--cpus-per-task",
-        "1",
-    ])
-    .args(["--time", "60:00", "--results"])
-    .arg(&slurm_root);
+    c.args(["slurm", "submit"])
+        .arg(&sweep_file)
+        .args(["--max-parallel", "2", "--cpus-per-task", "1"])
+        .args(["--time", "60:00", "--results"])
+        .arg(&slurm_root);
     let printed = run_ok(&mut with_sets(c));
     let arrays: Vec<String> = printed
         .lines()
@@ -530,16 +541,43 @@ fn sweep_on_slurm_equals_local_run() {
         Some(&n_jobs),
         "not all jobs done:\n{st}"
     );
-    let log = std::fs::read_to_string(&victim.log).unwrap();
-    let second = log
-        .find(" attempt 2 ")
-        .map(|i| &log[i..])
-        .unwrap_or_else(|| panic!("requeued task ran only once:\n{log}"));
+    let task_log = std::fs::read_to_string(&victim.log).unwrap();
     assert!(
-        second.to_lowercase().contains("resum"),
-        "the requeued attempt did not resume {} from its checkpoint:\n{log}",
-        victim.job_id
+        task_log.contains(" attempt 1 ") && task_log.contains(" attempt 2 "),
+        "the requeued task did not run twice:\n{task_log}"
     );
+    // Each job started once, finished once; the victim resumed from its checkpoint in between.
+    for j in &st.jobs {
+        let log = std::fs::read_to_string(sweep_dir.join("jobs").join(&j.job_id).join(JOB_LOG))
+            .unwrap_or_default();
+        let lines: Vec<&str> = log.lines().collect();
+        let at = |p: &dyn Fn(&str) -> bool| lines.iter().position(|l| p(l));
+        assert_eq!(
+            lines.iter().filter(|l| **l == "start").count(),
+            1,
+            "{}: {log}",
+            j.job_id
+        );
+        assert_eq!(
+            lines.iter().filter(|l| **l == "done").count(),
+            1,
+            "{}: {log}",
+            j.job_id
+        );
+        if j.job_id == victim.job_id {
+            let start = at(&|l| l == "start").unwrap();
+            let resume = at(&|l| l.starts_with("resume")).unwrap_or_else(|| {
+                panic!(
+                    "{} did not resume from its checkpoint:\n{log}\n{task_log}",
+                    j.job_id
+                )
+            });
+            assert!(
+                start < resume && resume < at(&|l| l == "done").unwrap(),
+                "{log}"
+            );
+        }
+    }
 
     // 5. Tables: complete and equal to the local run's.
     run_ok(granflow().arg("gather").arg(&sweep_dir));
@@ -571,7 +609,9 @@ fn sweep_on_slurm_equals_local_run() {
     let mut before = BTreeMap::new();
     files_with_mtimes(&sweep_dir.join("jobs"), &mut before);
     let mut c = granflow();
-    c.args(["slurm", "submit", SWEEP, "--max-parallel", "2", "--results"])
+    c.args(["slurm", "submit"])
+        .arg(&sweep_file)
+        .args(["--max-parallel", "2", "--results"])
         .arg(&slurm_root);
     let printed = run_ok(&mut with_sets(c));
     let again: Vec<String> = printed
