@@ -215,7 +215,8 @@ fn arrays_throttle_requeue_and_status_with_a_stand_in_runner() {
         return;
     }
     let _cluster = CLUSTER.lock().unwrap_or_else(|e| e.into_inner());
-    let root = scratch("slurm-standin");
+    // A space in the path checks the quoting of the script's paths.
+    let root = scratch("slurm stand-in");
     let stand_in = root.join("granflow-stand-in");
     std::fs::write(&stand_in, STAND_IN).unwrap();
     run_ok(Command::new("chmod").arg("+x").arg(&stand_in));
@@ -273,6 +274,7 @@ fn arrays_throttle_requeue_and_status_with_a_stand_in_runner() {
         status,
         |s| s.is_settled(),
     );
+    eprintln!("{st}");
     let counts = st.counts();
     assert_eq!(counts.get("done"), Some(&4), "{st}");
     assert_eq!(counts.get("failed"), Some(&1), "{st}");
@@ -536,6 +538,7 @@ fn sweep_on_slurm_equals_local_run() {
     let st = wait_for("the Slurm sweep", Duration::from_secs(1800), status, |s| {
         s.is_settled()
     });
+    eprintln!("{st}");
     assert_eq!(
         st.counts().get("done"),
         Some(&n_jobs),

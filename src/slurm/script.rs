@@ -90,6 +90,17 @@ fn path_str(p: &Path) -> String {
     p.to_string_lossy().into_owned()
 }
 
+/// A path as the value of an `#SBATCH` option: double-quoted when it has white space (sbatch
+/// splits `#SBATCH` lines at white space but honours double quotes).
+fn sbatch_path(p: &Path) -> String {
+    let s = path_str(p);
+    if s.chars().any(char::is_whitespace) {
+        format!("\"{s}\"")
+    } else {
+        s
+    }
+}
+
 impl ArrayScript {
     /// The `--array` value: `0-N` or `0-N%K`.
     pub fn array_spec(&self) -> String {
@@ -131,9 +142,9 @@ impl ArrayScript {
         let _ = writeln!(s, "#SBATCH --array={}", self.array_spec());
         let _ = writeln!(s, "#SBATCH --requeue");
         let _ = writeln!(s, "#SBATCH --open-mode=append");
-        let _ = writeln!(s, "#SBATCH --output={}", path_str(&log));
-        let _ = writeln!(s, "#SBATCH --error={}", path_str(&log));
-        let _ = writeln!(s, "#SBATCH --chdir={}", path_str(&self.sweep_dir));
+        let _ = writeln!(s, "#SBATCH --output={}", sbatch_path(&log));
+        let _ = writeln!(s, "#SBATCH --error={}", sbatch_path(&log));
+        let _ = writeln!(s, "#SBATCH --chdir={}", sbatch_path(&self.sweep_dir));
         let _ = writeln!(s, "#SBATCH --cpus-per-task={}", o.cpus_per_task);
         if let Some(t) = &o.time {
             let _ = writeln!(s, "#SBATCH --time={t}");
@@ -271,8 +282,9 @@ mod tests {
             "--array=0-2%2",
             "--requeue",
             "--open-mode=append",
-            "--output=/scratch/my results/quick/slurm/logs/%A_%a.log",
-            "--error=/scratch/my results/quick/slurm/logs/%A_%a.log",
+            "--output=\"/scratch/my results/quick/slurm/logs/%A_%a.log\"",
+            "--error=\"/scratch/my results/quick/slurm/logs/%A_%a.log\"",
+            "--chdir=\"/scratch/my results/quick\"",
             "--cpus-per-task=4",
             "--time=01:30:00",
             "--partition=short",

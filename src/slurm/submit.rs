@@ -68,6 +68,15 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
     sweep.sweep_dir = absolute(&sweep.sweep_dir)?;
     sweep.results_arg = absolute(&sweep.results_arg)?;
     sweep.sweep_file = absolute(&sweep.sweep_file)?;
+    if let Some(bad) = [&sweep.sweep_dir, &sweep.results_arg, &sweep.sweep_file]
+        .iter()
+        .find(|p| p.to_string_lossy().contains(['"', '\n']))
+    {
+        bail!(
+            "{}: a results path with a double quote or newline cannot go into an sbatch script",
+            bad.display()
+        );
+    }
     if sweep.job_ids.is_empty() {
         bail!(
             "{}: the sweep has no jobs, nothing to submit",
