@@ -10,9 +10,11 @@
 //! - [`engine`]: the engine boundary and the event-driven engine ([`engine::edmd`]).
 //! - [`analysis`]: fields, spectra, profiles, steady-state detection, classification.
 //! - [`sweep`]: sweep files, grids, job ids, the resumable queue, tables, phase diagrams.
+//! - [`slurm`]: job arrays on a Slurm cluster running the same job code; status via squeue.
 //! - [`cli`]: the command-line front end.
 
 pub mod analysis;
 pub mod cli;
 pub mod engine;
+pub mod slurm;
 pub mod sweep;

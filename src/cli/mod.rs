@@ -7,6 +7,7 @@ mod plan;
 mod run;
 mod sim;
 mod status;
+mod slurm;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -35,6 +36,8 @@ pub enum Command {
     Gather(gather::GatherArgs),
     /// Print and plot (PNG, SVG) the structure labels over two swept parameters.
     PhaseDiagram(phase_diagram::PhaseDiagramArgs),
+    /// Run a sweep on a Slurm cluster as job arrays (submit), or show it in Slurm (status).
+    Slurm(slurm::SlurmArgs),
 }
 
 /// Exit code for bad input (files, keys, values).
@@ -51,6 +54,7 @@ pub fn main() -> ExitCode {
         Command::Status(args) => status::run(args),
         Command::Gather(args) => gather::run(args),
         Command::PhaseDiagram(args) => phase_diagram::run(args),
+        Command::Slurm(args) => slurm::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
