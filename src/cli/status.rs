@@ -58,5 +58,8 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
         };
         println!("  [{:>3}] {}  {line}", j.job.index, j.job.id);
     }
+    if let Some(slurm) = crate::slurm::slurm_status(&dirs.tables)? {
+        print!("{slurm}");
+    }
     Ok(())
 }

@@ -7,7 +7,7 @@
 //! - [`SweepLink::job_states`]: whether each job's directory says done, failed (with its
 //!   error) or neither.
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use std::path::{Path, PathBuf};
 
 /// A sweep ready to be run by array tasks.
@@ -49,29 +49,50 @@ pub trait SweepLink {
     fn job_states(&self, sweep_dir: &Path, job_ids: &[String]) -> Result<Vec<JobDirState>>;
 }
 
-/// The real link, backed by the sweep runner (`crate::sweep`).
-///
-/// The sweep runner (`granflow run/plan/status/gather`, branch `sweep`) is being built in
-/// parallel; until it is merged, both methods fail with a clear message. Wiring at merge:
-/// `prepare` = parse + resolve the sweep with `sets`, write the resolved copy and job dirs as
-/// `granflow run` does, return the plan order; `job_states` = the runner's own job-dir reader.
+/// The real link, backed by the sweep runner (`crate::sweep`): the same resolution, results
+/// directories and job-directory states as `granflow run`.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct RunnerLink;
 
-const NOT_WIRED: &str = "granflow slurm needs the sweep runner (crate::sweep: plan order, \
-    results directory, job states), which is not part of this build yet";
+/// The results root of `granflow run` when `--results` is not given.
+pub const DEFAULT_RESULTS_ROOT: &str = "results";
 
 impl SweepLink for RunnerLink {
     fn prepare(
         &self,
         sweep_file: &Path,
-        _results: Option<&Path>,
-        _sets: &[String],
+        results: Option<&Path>,
+        sets: &[String],
     ) -> Result<PreparedSweep> {
-        bail!("{NOT_WIRED} (preparing {})", sweep_file.display())
+        use crate::sweep::{RESOLVED_SWEEP_FILE, load_sweep, queue};
+        let sweep = load_sweep(sweep_file, sets)?;
+        let root = results.unwrap_or(Path::new(DEFAULT_RESULTS_ROOT));
+        let dirs = sweep.results_dir(root);
+        sweep.write_resolved(&dirs)?;
+        for job in &sweep.plan {
+            queue::init_job_dir(&dirs.job_dir(&job.id), job)?;
+        }
+        let mut plan: Vec<_> = sweep.plan.iter().collect();
+        plan.sort_by_key(|j| j.index);
+        Ok(PreparedSweep {
+            name: sweep.name.clone(),
+            sweep_file: dirs.tables.join(RESOLVED_SWEEP_FILE),
+            sweep_dir: dirs.tables,
+            results_arg: root.to_path_buf(),
+            job_ids: plan.iter().map(|j| j.id.0.clone()).collect(),
+        })
     }
 
-    fn job_states(&self, sweep_dir: &Path, _job_ids: &[String]) -> Result<Vec<JobDirState>> {
-        bail!("{NOT_WIRED} (reading the jobs of {})", sweep_dir.display())
+    fn job_states(&self, sweep_dir: &Path, job_ids: &[String]) -> Result<Vec<JobDirState>> {
+        use crate::sweep::{JobId, open_results, queue};
+        let (_, dirs) = open_results(sweep_dir)?;
+        Ok(job_ids
+            .iter()
+            .map(|id| match queue::job_state(&dirs.job_dir(&JobId(id.clone()))) {
+                queue::JobState::Done => JobDirState::Done,
+                queue::JobState::Failed(e) => JobDirState::Failed(e),
+                _ => JobDirState::Unfinished,
+            })
+            .collect())
     }
 }
