@@ -660,6 +660,36 @@ fn two_runners_never_run_the_same_job() {
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success() && text.contains("done 6"), "{text}");
+    // an override reaching computed points: its own tables, the jobs reused (not rerun)
+    let out = Command::new(BIN)
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+        ])
+        .args(["--set", "restitution=0.9"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run_dir = results.join("proc/runs/restitution=0.9");
+    let overridden = granflow::sweep::open_results(&run_dir).unwrap().0;
+    assert_eq!(overridden.plan.len(), 3);
+    assert!(run_dir.join("jobs.parquet").exists());
+    assert_eq!(job_dirs(&results).len(), 6, "no new job directories");
+    for d in &dirs {
+        let log = std::fs::read_to_string(d.join(queue::LOG_FILE)).unwrap();
+        assert_eq!(
+            log.lines().filter(|l| *l == "start").count(),
+            1,
+            "{}: {log}",
+            d.display()
+        );
+    }
     // --job-range runs only its slice of the plan order
     let ranged = dir.join("ranged");
     let out = Command::new(BIN)

@@ -52,7 +52,13 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
             JobState::Partial(c) => {
                 format!("partial  {c:.0}/{target:.0} cpp (resumes from its checkpoint)")
             }
-            JobState::Running => "running  (claimed by a live runner)".to_string(),
+            JobState::Running => {
+                let dir = dirs.job_dir(&j.job.id);
+                match crate::sweep::execute::checkpoint_progress(&dir) {
+                    Some(c) => format!("running  {c:.0}/{target:.0} cpp at the last checkpoint"),
+                    None => "running  (claimed by a live runner)".to_string(),
+                }
+            }
             JobState::Pending => "pending".to_string(),
             JobState::Failed(e) => format!("FAILED   {e}"),
         };

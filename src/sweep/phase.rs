@@ -211,14 +211,7 @@ impl PhaseDiagram {
             root.present()
                 .map_err(|e| anyhow::anyhow!("drawing the PNG: {e}"))?;
         }
-        let mut bytes = Vec::new();
-        {
-            let mut encoder = png::Encoder::new(&mut bytes, w, h);
-            encoder.set_color(png::ColorType::Rgb);
-            encoder.set_depth(png::BitDepth::Eight);
-            let mut writer = encoder.write_header()?;
-            writer.write_image_data(&buf)?;
-        }
+        let bytes = encode_png(&buf, w, h)?;
         super::write_atomic(path, &bytes)?;
         Ok(())
     }
@@ -379,6 +372,34 @@ fn register_font() {
             include_bytes!("fonts/DejaVuSansMono.ttf"),
         );
     });
+}
+
+/// Encode 8-bit RGB pixels as a PNG: signature, IHDR, one zlib-compressed IDAT of the scanlines
+/// (filter type 0 each), IEND; every chunk ends with the CRC-32 of its type and data.
+fn encode_png(rgb: &[u8], w: u32, h: u32) -> std::io::Result<Vec<u8>> {
+    use std::io::Write;
+    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
+        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let start = out.len();
+        out.extend_from_slice(kind);
+        out.extend_from_slice(data);
+        let crc = crc32fast::hash(&out[start..]);
+        out.extend_from_slice(&crc.to_be_bytes());
+    }
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = Vec::with_capacity(13);
+    ihdr.extend_from_slice(&w.to_be_bytes());
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 2, 0, 0, 0]); // 8 bit, RGB, deflate, filter 0, no interlace
+    chunk(&mut out, b"IHDR", &ihdr);
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+    for row in rgb.chunks(3 * w as usize) {
+        z.write_all(&[0])?;
+        z.write_all(row)?;
+    }
+    chunk(&mut out, b"IDAT", &z.finish()?);
+    chunk(&mut out, b"IEND", &[]);
+    Ok(out)
 }
 
 /// A parameter value as written in tables and plots (shortest round-trip form).

@@ -132,10 +132,19 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
         .truncate(false)
         .write(true)
         .open(dir.join(LOCK_FILE))?;
-    match lock.try_lock() {
-        Ok(()) => {}
-        Err(std::fs::TryLockError::WouldBlock) => return Ok(Err(NotClaimed::Busy)),
-        Err(std::fs::TryLockError::Error(e)) => return Err(e),
+    // a state probe ([`job_state`]) holds the lock for an instant: try a few times before
+    // concluding that another runner holds it
+    let mut attempt = 0;
+    loop {
+        match lock.try_lock() {
+            Ok(()) => break,
+            Err(std::fs::TryLockError::WouldBlock) if attempt < 5 => {
+                attempt += 1;
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            Err(std::fs::TryLockError::WouldBlock) => return Ok(Err(NotClaimed::Busy)),
+            Err(std::fs::TryLockError::Error(e)) => return Err(e),
+        }
     }
     match state_unlocked(dir) {
         JobState::Done => Ok(Err(NotClaimed::Done)),

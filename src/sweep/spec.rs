@@ -82,7 +82,7 @@ pub struct ParamAxes {
 pub struct Link {
     /// the parameter that is set
     pub param: String,
-    /// the swept parameter it follows
+    /// the swept (or fixed) parameter it follows
     pub follows: String,
     /// param = factor x follows
     #[serde(default = "one")]
@@ -584,15 +584,16 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                 ),
             ));
         };
-        if !axes.contains_key(&link.follows) {
+        let fixed = spec.fixed.to_map();
+        if !axes.contains_key(&link.follows) && !fixed.contains_key(&link.follows) {
             return Err(src.error_at(
                 Some("linked"),
                 "follows",
                 i,
                 format!(
-                    "\"{}\" is not a swept axis; allowed: {}",
+                    "\"{}\" is neither swept nor fixed; allowed: {}",
                     link.follows,
-                    axes.keys().cloned().collect::<Vec<_>>().join(", ")
+                    axes.keys().chain(fixed.keys()).cloned().collect::<Vec<_>>().join(", ")
                 ),
             ));
         }
