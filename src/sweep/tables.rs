@@ -250,8 +250,12 @@ fn jobs_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
             })
             .collect::<Vec<_>>(),
     ));
+    // a summary field that repeats a job column (e.g. `particles`) is left out: the job
+    // column is the authority, and a table cannot hold two columns of one name
     for (name, col) in summary_columns(jobs) {
-        cols.push(col.into_column(&name));
+        if !cols.iter().any(|c| c.name().as_str() == name) {
+            cols.push(col.into_column(&name));
+        }
     }
     let r = |f: &dyn Fn(&JobResult) -> u64| -> Vec<Option<u64>> {
         jobs.iter().map(|j| j.result.as_ref().map(f)).collect()
