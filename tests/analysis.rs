@@ -3,7 +3,9 @@
 //! particle positions (plug, S-waves with 1-3 humps, slug, wavy slug, S-wave + slug, 3D,
 //! homogeneous at several N and grids), and the XYZ / VTK writers.
 
-use granflow::analysis::classify::{assess, family_dims, family_powers, noise_per_mode};
+use granflow::analysis::classify::{
+    assess, family_dims, family_modes, family_powers, noise_per_mode,
+};
 use granflow::analysis::fields::Grid;
 use granflow::analysis::spectrum::{fold, power_2d};
 use granflow::analysis::{
@@ -175,9 +177,32 @@ fn families_are_orthogonal_and_add_up_to_the_total_power() {
     let total: f64 = p.iter().sum::<f64>() - p[0];
     let sum = f.transverse + f.along_flow + f.antisymmetric + f.symmetric_rest;
     assert!((sum - total).abs() < 1e-12 * total, "{sum} vs {total}");
-    // the antisymmetric power resolved by k_x adds up to the family power
-    let by_kx: f64 = f.antisymmetric_by_kx.iter().sum();
-    assert!((by_kx - f.antisymmetric).abs() < 1e-12 * f.antisymmetric);
+    // the folded spectra of the antisymmetric and symmetric parts add up to their powers, and
+    // the modes handed to the peak test carry all of each family's power and dimensions
+    let anti: f64 = f.antisymmetric_modes.iter().sum();
+    assert!((anti - f.antisymmetric).abs() < 1e-12 * f.antisymmetric);
+    let sym: f64 = f.symmetric_modes.iter().sum();
+    assert!((sym - f.symmetric_rest).abs() < 1e-12 * f.symmetric_rest);
+    let modes = family_modes(&f, n);
+    let dims = family_dims(n);
+    for (fam, power) in [
+        f.transverse,
+        f.along_flow,
+        f.antisymmetric,
+        f.symmetric_rest,
+        f.spanwise,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let p: f64 = modes[fam].iter().map(|m| m.power).sum();
+        let d: usize = modes[fam].iter().map(|m| m.dims).sum();
+        assert!(
+            (p - power).abs() < 1e-12 * power,
+            "family {fam}: {p} vs {power}"
+        );
+        assert_eq!(d, dims[fam], "family {fam}");
+    }
     // spanwise = xz power without k_z = 0 plus yz power with k_y != 0, k_z != 0
     let pxz = power_2d(&xz, n[0], n[2]);
     let pyz = power_2d(&yz, n[1], n[2]);
@@ -371,6 +396,62 @@ fn s_waves_with_one_two_and_three_humps() {
         4,
     );
     assert_eq!(label(&a), ("s-wave".into(), 1, false), "{:?}", a.summary);
+}
+
+/// Detection must not depend on the grid: the same S-waves on a fine and on a coarse grid.
+#[test]
+fn s_waves_on_fine_and_coarse_grids() {
+    let g = test_box();
+    for (humps, grid) in [
+        (1, [40, 19, 20]),
+        (2, [40, 19, 20]),
+        (1, [4, 4, 4]),
+        (2, [6, 6, 6]),
+    ] {
+        let settings = AnalysisSettings {
+            grid: Some(grid),
+            ..AnalysisSettings::default()
+        };
+        let a = analyse_samples(
+            g,
+            n_for(&g),
+            5,
+            &band(g, humps),
+            &settings,
+            50 + humps as u64,
+        );
+        assert_eq!(
+            label(&a),
+            ("s-wave".into(), humps, false),
+            "{grid:?}: {:?}",
+            a.summary
+        );
+    }
+}
+
+/// A weak plug, phi ~ 1 - 0.07 cos(2 pi y / W'), on a fine grid: its single mode (0, 1) stands
+/// above noise (expected ratio 1 + phi^2 a^2 / (2 P0) = 6.6 against a peak threshold of 3.9)
+/// although the transverse family sum, diluted over 18 dimensions, does not (1.6 against 2).
+#[test]
+fn a_weak_plug_on_a_fine_grid_is_found_by_its_peak_mode() {
+    let g = test_box();
+    let settings = AnalysisSettings {
+        grid: Some([40, 19, 20]),
+        ..AnalysisSettings::default()
+    };
+    let rho = |_: f64, y: f64, _: f64| (1.0 - 0.07 * (2.0 * PI * (y - 0.5) / 19.0).cos()) / 1.07;
+    let a = analyse_samples(g, n_for(&g), 10, &rho, &settings, 60);
+    assert_eq!(label(&a), ("plug".into(), 0, false), "{:?}", a.summary);
+    assert!(
+        a.summary.ratio_transverse < a.summary.threshold_transverse,
+        "{:?}",
+        a.summary
+    );
+    assert!(
+        a.summary.family_peaks.contains("transverse xy(0,1)"),
+        "{}",
+        a.summary.family_peaks
+    );
 }
 
 #[test]

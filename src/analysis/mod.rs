@@ -25,7 +25,7 @@ use crate::engine::Snapshot;
 use classify::{FamilyPowers, assess, family_powers, noise_per_mode};
 use fields::{Grid, SPHERE_VOLUME, cell_counts, plane_counts};
 use serde::{Deserialize, Serialize};
-use spectrum::{fold, folded_shape, multiplicity, power_2d};
+use spectrum::{folded_shape, multiplicity};
 
 /// Analysis settings of a sweep or job (all have documented defaults).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -186,6 +186,15 @@ pub struct Summary {
     pub threshold_antisymmetric: f64,
     pub threshold_symmetric_rest: f64,
     pub threshold_spanwise: f64,
+    /// max(ratio / threshold, peak ratio / peak threshold) of each family: > 1 is significant
+    /// (the sum test over the whole family or the peak test on its strongest mode)
+    pub significance_transverse: f64,
+    pub significance_along_flow: f64,
+    pub significance_antisymmetric: f64,
+    pub significance_symmetric_rest: f64,
+    pub significance_spanwise: f64,
+    /// each family's strongest folded mode: "family plane(k1,k2) ratio/threshold" joined by "; "
+    pub family_peaks: String,
     /// dominant |k_x| of the antisymmetric excess power and the fraction of that excess in it
     pub antisymmetric_kx: u32,
     pub antisymmetric_coherence: f64,
@@ -335,7 +344,7 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         let p0 = noise_per_mode(q.particles as usize, q.grid_volume);
         // window average of the families and the spectra
         let used: Vec<&SnapshotRecord> = in_window.iter().filter(|r| same_grid(r)).collect();
-        let mut avg = FamilyPowers::zero(n[0]);
+        let mut avg = FamilyPowers::zero(n);
         for (r, f) in records.iter().zip(&families).skip(window.start) {
             if let Some(f) = f {
                 debug_assert!(same_grid(r));
@@ -350,11 +359,18 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         }
         if !used.is_empty() {
             let a = assess(&avg, n, p0, used.len());
-            let xy_avg = averaged_spectrum(&used, 0);
-            summary.dominant_modes = dominant_modes(&xy_avg, n[0], n[1], p0, 5);
-            for plane in 0..3 {
-                spectra.extend(spectrum_rows(&averaged_spectrum(&used, plane), n, plane));
+            summary.dominant_modes = dominant_modes(&avg.xy, n[0], n[1], p0, 5);
+            for (plane, folded) in [&avg.xy, &avg.xz, &avg.yz].into_iter().enumerate() {
+                spectra.extend(spectrum_rows(folded, n, plane));
             }
+            [
+                summary.significance_transverse,
+                summary.significance_along_flow,
+                summary.significance_antisymmetric,
+                summary.significance_symmetric_rest,
+                summary.significance_spanwise,
+            ] = a.significance;
+            summary.family_peaks = family_peaks(&a);
             summary.power_transverse = avg.transverse;
             summary.power_along_flow = avg.along_flow;
             summary.power_antisymmetric = avg.antisymmetric;
@@ -481,22 +497,22 @@ fn structure_evolution(
     out
 }
 
-/// Folded spectrum of plane `plane` (0 xy, 1 xz, 2 yz) averaged over `records`.
-fn averaged_spectrum(records: &[&SnapshotRecord], plane: usize) -> Vec<f64> {
-    let Some(first) = records.first() else {
-        return Vec::new();
-    };
-    let (a, b) = plane_dims(first.grid.map(|k| k as usize), plane);
-    let (m1, m2) = folded_shape(a, b);
-    let mut avg = vec![0.0; m1 * m2];
-    for r in records {
-        let fields = plane_fields(r);
-        let p = fold(&power_2d(&fields[plane], a, b), a, b);
-        for (s, v) in avg.iter_mut().zip(p) {
-            *s += v / records.len() as f64;
-        }
-    }
-    avg
+/// Each family's strongest mode against its peak-test threshold, as
+/// "family plane(k1,k2) ratio/threshold" separated by "; ".
+fn family_peaks(a: &classify::Assessment) -> String {
+    classify::FAMILY_NAMES
+        .iter()
+        .zip(&a.peaks)
+        .filter_map(|(name, p)| {
+            p.map(|p| {
+                format!(
+                    "{name} {}({},{}) {:.1}/{:.1}",
+                    p.mode.plane, p.mode.k1, p.mode.k2, p.ratio, p.threshold
+                )
+            })
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// Grid sizes (first, second axis) of a plane.
@@ -580,6 +596,12 @@ fn empty_summary() -> Summary {
         threshold_antisymmetric: f64::NAN,
         threshold_symmetric_rest: f64::NAN,
         threshold_spanwise: f64::NAN,
+        significance_transverse: f64::NAN,
+        significance_along_flow: f64::NAN,
+        significance_antisymmetric: f64::NAN,
+        significance_symmetric_rest: f64::NAN,
+        significance_spanwise: f64::NAN,
+        family_peaks: String::new(),
         antisymmetric_kx: 0,
         antisymmetric_coherence: f64::NAN,
         dominant_modes: String::new(),
