@@ -766,6 +766,47 @@ fn records_round_trip_through_checkpoint_encodings_and_settings_are_checked() {
     }
 }
 
+/// Cellwise averages of a hand-made snapshot: two cells with known members.
+#[test]
+fn cellwise_fields_of_known_cells() {
+    let g = channel(8.0, 9.0, 8.0);
+    let settings = AnalysisSettings {
+        grid: Some([2, 2, 2]),
+        ..AnalysisSettings::default()
+    };
+    // cell (0, 0, 0): x < 4, 0.5 <= y < 4.5, z < 4; cell (1, 1, 1): the opposite corner
+    let pos = vec![
+        [1.0, 1.0, 1.0],
+        [2.0, 2.0, 2.0],
+        [3.0, 3.0, 3.0],
+        [6.0, 6.0, 6.0],
+    ];
+    let mut snap = snapshot(g, pos, 1.0);
+    snap.velocities = vec![
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [3.0, 3.0, 0.0],
+        [5.0, 5.0, 5.0],
+    ];
+    snap.angular_velocities = vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 0.0, 0.0], [1.0; 3]];
+    let grid = Grid::new(&g, 4, &settings);
+    let f = granflow::analysis::fields::Fields::compute(&snap, &grid);
+    let c0 = grid.linear([0, 0, 0]);
+    let c1 = grid.linear([1, 1, 1]);
+    assert_eq!((f.count[c0], f.count[c1]), (3, 1));
+    let cell_volume = 4.0 * 4.0 * 4.0;
+    assert!((f.phi[c0] - 3.0 * PI / 6.0 / cell_volume).abs() < 1e-15);
+    assert_eq!(f.velocity[c0], [2.0, 1.0, 0.0]);
+    // T = sum |c - U|^2 / (3 (N - 1)) = (1 + 1 + 0 + 1 + 1 + 4) / 6
+    assert!((f.temperature[c0] - 8.0 / 6.0).abs() < 1e-12);
+    // theta = (K/4) sum |w - <w>|^2 / (3 (N - 1)) = 0.1 x 2 / 6
+    assert!((f.rotational_temperature[c0] - 0.1 * 2.0 / 6.0).abs() < 1e-12);
+    // a single particle has no temperature; the xy plane field averages over z
+    assert_eq!(f.temperature[c1], 0.0);
+    let xy = f.plane_phi(0);
+    assert!((xy[0] - 0.5 * f.phi[c0]).abs() < 1e-15);
+}
+
 // ---------- snapshot files ----------
 
 #[test]
