@@ -13,7 +13,8 @@
 //! random (multinomial) arrangement of N centres each of the D dimensions of a family carries
 //! on average the same power P0 = 2 (pi/6)^2 N / V_grid^2 (see [`noise_per_mode`]).
 //!
-//! Two tests per family, either one makes it significant: the *sum test* (the family's total
+//! Two tests per family at the noise distribution of one snapshot, either one makes it
+//! significant: the *sum test* (the family's total
 //! power against D P0; sensitive to structure spread over many modes) and the *peak test* (the
 //! family's strongest folded mode against that mode's noise, with the false-alarm probability
 //! shared among the family's modes; sensitive to a structure in a few modes however fine the
@@ -193,11 +194,11 @@ fn z_varying_power(g: &[f64], na: usize, n3: usize, drop_first: bool) -> f64 {
 }
 
 /// z of the one-sided significance test: a family is above noise when its power exceeds the
-/// 5-sigma quantile of its noise distribution (false-alarm probability ~3e-7 per test).
+/// 5-sigma quantile of its noise distribution (false-alarm probability ~2.9e-7 per test).
 pub const SIGNIFICANCE_Z: f64 = 5.0;
 
 /// A family must also carry at least as much structure power as noise power (ratio >= 2) to
-/// count as "clearly above noise", however many snapshots are averaged.
+/// count as "clearly above noise".
 pub const MIN_RATIO: f64 = 2.0;
 
 /// Fraction of the antisymmetric excess power in one k_x above which the antisymmetric content
@@ -205,37 +206,83 @@ pub const MIN_RATIO: f64 = 2.0;
 /// modulation confined to a slug (which spreads over about L / slug length wave numbers).
 pub const COHERENCE_THRESHOLD: f64 = 0.5;
 
-/// Threshold on the ratio power / mean noise power of a family with `dims` dimensions averaged
-/// over `snapshots` independent snapshots. Under noise the ratio is chi^2_nu / nu with
-/// nu = dims x snapshots; the SIGNIFICANCE_Z quantile is taken from the Wilson-Hilferty cube-root
-/// normal approximation, nu (1 - 2/(9 nu) + z sqrt(2/(9 nu)))^3, and floored at MIN_RATIO.
-pub fn threshold_ratio(dims: usize, snapshots: usize) -> f64 {
-    chi2_ratio_quantile((dims * snapshots) as f64, SIGNIFICANCE_Z).max(MIN_RATIO)
+/// False-alarm probability of one test, P(Z > SIGNIFICANCE_Z) for a standard normal Z.
+pub fn false_alarm() -> f64 {
+    0.5 * libm::erfc(SIGNIFICANCE_Z / std::f64::consts::SQRT_2)
 }
 
-/// Wilson-Hilferty quantile of chi^2_nu / nu at z standard deviations (conservative, i.e. too
-/// high, in the far tail for nu of 1 or 2).
-fn chi2_ratio_quantile(nu: f64, z: f64) -> f64 {
+/// Sum-test threshold on the ratio power / mean noise power of a family with `dims` dimensions:
+/// the quantile of chi^2_D / D at the false-alarm probability of [`false_alarm`], at least
+/// MIN_RATIO. The noise distribution is that of one snapshot: a structure is named when it
+/// would stand out of the noise of a single snapshot; averaging the window makes its measured
+/// power precise but does not lower the bar (so a longer run does not turn faint modulations
+/// into new labels).
+pub fn threshold_ratio(dims: usize) -> f64 {
+    chi2_ratio_quantile(dims as f64, false_alarm()).max(MIN_RATIO)
+}
+
+/// The x / nu with P(chi^2_nu > x) = p (bisection on the regularised upper incomplete gamma
+/// function Q(nu/2, x/2)).
+pub fn chi2_ratio_quantile(nu: f64, p: f64) -> f64 {
     if nu <= 0.0 {
         return f64::INFINITY;
     }
-    let h = 2.0 / (9.0 * nu);
-    (1.0 - h + z * h.sqrt()).max(0.0).powi(3)
-}
-
-/// One-sided standard-normal quantile z with P(Z > z) = p (bisection on erfc).
-fn normal_quantile(p: f64) -> f64 {
-    let tail = |z: f64| 0.5 * libm::erfc(z / std::f64::consts::SQRT_2);
-    let (mut lo, mut hi) = (-10.0, 40.0);
+    let (mut lo, mut hi) = (0.0, nu + 60.0 * (2.0 * nu).sqrt() + 400.0);
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if tail(mid) > p {
+        if gamma_q(0.5 * nu, 0.5 * mid) > p {
             lo = mid;
         } else {
             hi = mid;
         }
     }
-    0.5 * (lo + hi)
+    0.5 * (lo + hi) / nu
+}
+
+/// Regularised upper incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a): series for
+/// x < a + 1, Lentz continued fraction otherwise (Numerical Recipes 6.2).
+pub fn gamma_q(a: f64, x: f64) -> f64 {
+    if x <= 0.0 {
+        return 1.0;
+    }
+    let ln_prefactor = -x + a * x.ln() - libm::lgamma(a);
+    if x < a + 1.0 {
+        let (mut term, mut sum, mut ap) = (1.0 / a, 1.0 / a, a);
+        for _ in 0..10_000 {
+            ap += 1.0;
+            term *= x / ap;
+            sum += term;
+            if term.abs() < sum.abs() * 1e-16 {
+                break;
+            }
+        }
+        (1.0 - sum * ln_prefactor.exp()).max(0.0)
+    } else {
+        let tiny = 1e-300;
+        let mut b = x + 1.0 - a;
+        let mut c = 1.0 / tiny;
+        let mut d = 1.0 / b;
+        let mut h = d;
+        for i in 1..10_000 {
+            let an = -(i as f64) * (i as f64 - a);
+            b += 2.0;
+            d = an * d + b;
+            if d.abs() < tiny {
+                d = tiny;
+            }
+            c = b + an / c;
+            if c.abs() < tiny {
+                c = tiny;
+            }
+            d = 1.0 / d;
+            let delta = d * c;
+            h *= delta;
+            if (delta - 1.0).abs() < 1e-16 {
+                break;
+            }
+        }
+        ln_prefactor.exp() * h
+    }
 }
 
 /// A folded mode of a family: plane, wave numbers, power, and its real dimensions (its noise
@@ -342,13 +389,12 @@ pub struct Assessment {
     pub coherence: f64,
 }
 
-/// Name the structure from family powers averaged over `snapshots` snapshots, with noise P0
-/// per dimension, on grid `n`.
-pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64, snapshots: usize) -> Assessment {
+/// Name the structure from family powers (of one snapshot or averaged over a window), with
+/// noise P0 per dimension, on grid `n`.
+pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64) -> Assessment {
     let dims = family_dims(n);
     let powers = p.as_array();
     let modes = family_modes(p, n);
-    let false_alarm = 0.5 * libm::erfc(SIGNIFICANCE_Z / std::f64::consts::SQRT_2);
     let mut ratios = [0.0; 5];
     let mut thresholds = [0.0; 5];
     let mut peaks: [Option<Peak>; 5] = [None; 5];
@@ -359,17 +405,17 @@ pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64, snapshots: usize) -> Ass
         } else {
             0.0
         };
-        thresholds[f] = threshold_ratio(dims[f], snapshots);
+        thresholds[f] = threshold_ratio(dims[f]);
         significance[f] = ratios[f] / thresholds[f];
         let tested: Vec<&Mode> = modes[f].iter().filter(|m| m.dims > 0).collect();
         if tested.is_empty() || p0 <= 0.0 {
             continue;
         }
         // the family's false-alarm probability shared among its modes (Bonferroni)
-        let z = normal_quantile(false_alarm / tested.len() as f64);
+        let p_mode = false_alarm() / tested.len() as f64;
         for m in tested {
             let ratio = m.power / (m.dims as f64 * p0);
-            let threshold = chi2_ratio_quantile((m.dims * snapshots) as f64, z).max(MIN_RATIO);
+            let threshold = chi2_ratio_quantile(m.dims as f64, p_mode).max(MIN_RATIO);
             if peaks[f].is_none_or(|q| ratio / threshold > q.ratio / q.threshold) {
                 peaks[f] = Some(Peak {
                     mode: *m,

@@ -360,7 +360,7 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
             ));
         }
         if !used.is_empty() {
-            let a = assess(&avg, n, p0, used.len());
+            let a = assess(&avg, n, p0);
             summary.dominant_modes = dominant_modes(&avg.xy, n[0], n[1], p0, 5);
             for (plane, folded) in [&avg.xy, &avg.xz, &avg.yz].into_iter().enumerate() {
                 spectra.extend(spectrum_rows(folded, n, plane));

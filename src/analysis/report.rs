@@ -23,7 +23,7 @@ pub(super) fn structure_evolution(
         .zip(families)
         .filter_map(|(r, f)| {
             f.as_ref().map(|f| {
-                let a = assess(f, n, p0, 1);
+                let a = assess(f, n, p0);
                 (r.collisions_per_particle, a.label, a.humps)
             })
         })
