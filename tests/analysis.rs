@@ -432,7 +432,7 @@ fn s_waves_on_fine_and_coarse_grids() {
 /// A weak plug, phi ~ 1 - 0.16 cos(2 pi y / W'), on a fine grid (76 cells across): its single
 /// mode (0, 1) stands out (expected ratio 1 + phi^2 a^2 / (2 P0) = 30 against a peak threshold
 /// of 18.7 = -ln(p / 38 modes)) although the transverse family sum, diluted over 75 dimensions,
-/// does not (expected 1.78 against 2.05). Averaged over 10 snapshots, so that the measured
+/// does not (expected 1.78 against 2.04). Averaged over 10 snapshots, so that the measured
 /// ratios are within a few percent of these expectations.
 #[test]
 fn a_weak_plug_on_a_fine_grid_is_found_by_its_peak_mode() {
