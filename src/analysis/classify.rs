@@ -14,11 +14,11 @@
 //! on average the same power P0 = 2 (pi/6)^2 N / V_grid^2 (see [`noise_per_mode`]).
 //!
 //! Two tests per family at the noise distribution of one snapshot, either one makes it
-//! significant: the *sum test* (the family's total
-//! power against D P0; sensitive to structure spread over many modes) and the *peak test* (the
-//! family's strongest folded mode against that mode's noise, with the false-alarm probability
-//! shared among the family's modes; sensitive to a structure in a few modes however fine the
-//! grid, since a family sum over many noise modes dilutes it).
+//! significant: the *sum test* (the family's total power against D P0; sensitive to structure
+//! spread over many modes) and the *peak test* (the family's strongest folded mode against that
+//! mode's noise, with the false-alarm probability shared among the family's modes; sensitive to
+//! a structure in a few modes however fine the grid, since a family sum over many noise modes
+//! dilutes it). Labels follow from the significant families ([`assess`]).
 
 use super::spectrum::{fold, folded_shape, multiplicity, power_2d};
 
