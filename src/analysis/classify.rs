@@ -12,8 +12,15 @@
 //! The four parts are orthogonal projections, so their powers add up to the total, and for a
 //! random (multinomial) arrangement of N centres each of the D dimensions of a family carries
 //! on average the same power P0 = 2 (pi/6)^2 N / V_grid^2 (see [`noise_per_mode`]).
+//!
+//! Two tests per family at the noise distribution of one snapshot, either one makes it
+//! significant: the *sum test* (the family's total power against D P0; sensitive to structure
+//! spread over many modes) and the *peak test* (the family's strongest folded mode against that
+//! mode's noise, with the false-alarm probability shared among the family's modes; sensitive to
+//! a structure in a few modes however fine the grid, since a family sum over many noise modes
+//! dilutes it). Labels follow from the significant families ([`assess`]).
 
-use super::spectrum::{multiplicity, power_2d};
+use super::spectrum::{fold, folded_shape, multiplicity, power_2d};
 
 /// Power of each family of one snapshot (or averaged over snapshots), in units of phi^2 with
 /// the spectrum's normalisation (the sum of P over the family's unfolded modes).
@@ -25,20 +32,33 @@ pub struct FamilyPowers {
     pub symmetric_rest: f64,
     /// xz modes with k_z != 0 and yz modes with k_y != 0, k_z != 0 (structure along z)
     pub spanwise: f64,
-    /// power of the antisymmetric family at each |k_x| = 0 ..= n1/2 (summed over k_y)
-    pub antisymmetric_by_kx: Vec<f64>,
+    /// folded spectra (layout of [`fold`]): the whole xy field, its antisymmetric and
+    /// symmetric-rest parts, the xz and yz fields
+    pub xy: Vec<f64>,
+    pub antisymmetric_modes: Vec<f64>,
+    pub symmetric_modes: Vec<f64>,
+    pub xz: Vec<f64>,
+    pub yz: Vec<f64>,
 }
 
 impl FamilyPowers {
-    /// All zero, for a grid with `n1` cells along x.
-    pub fn zero(n1: usize) -> Self {
+    /// All zero, for grid `n`.
+    pub fn zero(n: [usize; 3]) -> Self {
+        let size = |a: usize, b: usize| {
+            let (m1, m2) = folded_shape(a, b);
+            vec![0.0; m1 * m2]
+        };
         FamilyPowers {
             transverse: 0.0,
             along_flow: 0.0,
             antisymmetric: 0.0,
             symmetric_rest: 0.0,
             spanwise: 0.0,
-            antisymmetric_by_kx: vec![0.0; n1 / 2 + 1],
+            xy: size(n[0], n[1]),
+            antisymmetric_modes: size(n[0], n[1]),
+            symmetric_modes: size(n[0], n[1]),
+            xz: size(n[0], n[2]),
+            yz: size(n[1], n[2]),
         }
     }
 
@@ -49,12 +69,16 @@ impl FamilyPowers {
         self.antisymmetric += w * other.antisymmetric;
         self.symmetric_rest += w * other.symmetric_rest;
         self.spanwise += w * other.spanwise;
-        for (a, b) in self
-            .antisymmetric_by_kx
-            .iter_mut()
-            .zip(&other.antisymmetric_by_kx)
-        {
-            *a += w * b;
+        for (mine, theirs) in [
+            (&mut self.xy, &other.xy),
+            (&mut self.antisymmetric_modes, &other.antisymmetric_modes),
+            (&mut self.symmetric_modes, &other.symmetric_modes),
+            (&mut self.xz, &other.xz),
+            (&mut self.yz, &other.yz),
+        ] {
+            for (a, b) in mine.iter_mut().zip(theirs) {
+                *a += w * b;
+            }
         }
     }
 
@@ -127,21 +151,18 @@ pub fn family_powers(xy: &[f64], xz: &[f64], yz: &[f64], n: [usize; 3]) -> Famil
     }
     // Parseval: sum over unfolded modes of P = 2 sum g^2 / M
     let power = |g: &[f64], cells: f64| 2.0 * g.iter().map(|v| v * v).sum::<f64>() / cells;
-    let mut by_kx = vec![0.0; n1 / 2 + 1];
-    if n1 > 1 && n2 > 1 {
-        let p = power_2d(&anti, n1, n2);
-        for i in 0..n1 {
-            let k = super::spectrum::folded_wavenumber(i, n1);
-            by_kx[k] += p[i * n2..(i + 1) * n2].iter().sum::<f64>();
-        }
-    }
+    let folded = |g: &[f64], a: usize, b: usize| fold(&power_2d(g, a, b), a, b);
     FamilyPowers {
         transverse: power(&t, n2 as f64),
         along_flow: power(&s, n1 as f64),
         antisymmetric: power(&anti, m),
         symmetric_rest: power(&sym, m),
         spanwise: z_varying_power(xz, n1, n3, false) + z_varying_power(yz, n2, n3, true),
-        antisymmetric_by_kx: by_kx,
+        xy: folded(xy, n1, n2),
+        antisymmetric_modes: folded(&anti, n1, n2),
+        symmetric_modes: folded(&sym, n1, n2),
+        xz: folded(xz, n1, n3),
+        yz: folded(yz, n2, n3),
     }
 }
 
@@ -173,11 +194,11 @@ fn z_varying_power(g: &[f64], na: usize, n3: usize, drop_first: bool) -> f64 {
 }
 
 /// z of the one-sided significance test: a family is above noise when its power exceeds the
-/// 5-sigma quantile of its noise distribution (false-alarm probability ~3e-7 per test).
+/// 5-sigma quantile of its noise distribution (false-alarm probability ~2.9e-7 per test).
 pub const SIGNIFICANCE_Z: f64 = 5.0;
 
 /// A family must also carry at least as much structure power as noise power (ratio >= 2) to
-/// count as "clearly above noise", however many snapshots are averaged.
+/// count as "clearly above noise".
 pub const MIN_RATIO: f64 = 2.0;
 
 /// Fraction of the antisymmetric excess power in one k_x above which the antisymmetric content
@@ -185,17 +206,164 @@ pub const MIN_RATIO: f64 = 2.0;
 /// modulation confined to a slug (which spreads over about L / slug length wave numbers).
 pub const COHERENCE_THRESHOLD: f64 = 0.5;
 
-/// Threshold on the ratio power / mean noise power of a family with `dims` dimensions averaged
-/// over `snapshots` independent snapshots. Under noise the ratio is chi^2_nu / nu with
-/// nu = dims x snapshots; the SIGNIFICANCE_Z quantile is taken from the Wilson-Hilferty cube-root
-/// normal approximation, nu (1 - 2/(9 nu) + z sqrt(2/(9 nu)))^3, and floored at MIN_RATIO.
-pub fn threshold_ratio(dims: usize, snapshots: usize) -> f64 {
-    let nu = (dims * snapshots) as f64;
+/// False-alarm probability of one test, P(Z > SIGNIFICANCE_Z) for a standard normal Z.
+pub fn false_alarm() -> f64 {
+    0.5 * libm::erfc(SIGNIFICANCE_Z / std::f64::consts::SQRT_2)
+}
+
+/// Sum-test threshold on the ratio power / mean noise power of a family with `dims` dimensions:
+/// the quantile of chi^2_D / D at the false-alarm probability of [`false_alarm`], at least
+/// MIN_RATIO. The noise distribution is that of one snapshot: a structure is named when it
+/// would stand out of the noise of a single snapshot; averaging the window makes its measured
+/// power precise but does not lower the bar (so a longer run does not turn faint modulations
+/// into new labels).
+pub fn threshold_ratio(dims: usize) -> f64 {
+    chi2_ratio_quantile(dims as f64, false_alarm()).max(MIN_RATIO)
+}
+
+/// The x / nu with P(chi^2_nu > x) = p (bisection on the regularised upper incomplete gamma
+/// function Q(nu/2, x/2)).
+pub fn chi2_ratio_quantile(nu: f64, p: f64) -> f64 {
     if nu <= 0.0 {
         return f64::INFINITY;
     }
-    let h = 2.0 / (9.0 * nu);
-    (1.0 - h + SIGNIFICANCE_Z * h.sqrt()).powi(3).max(MIN_RATIO)
+    let (mut lo, mut hi) = (0.0, nu + 60.0 * (2.0 * nu).sqrt() + 400.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if gamma_q(0.5 * nu, 0.5 * mid) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi) / nu
+}
+
+/// Regularised upper incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a): series for
+/// x < a + 1, Lentz continued fraction otherwise (Numerical Recipes 6.2).
+pub fn gamma_q(a: f64, x: f64) -> f64 {
+    if x <= 0.0 {
+        return 1.0;
+    }
+    let ln_prefactor = -x + a * x.ln() - libm::lgamma(a);
+    if x < a + 1.0 {
+        let (mut term, mut sum, mut ap) = (1.0 / a, 1.0 / a, a);
+        for _ in 0..10_000 {
+            ap += 1.0;
+            term *= x / ap;
+            sum += term;
+            if term.abs() < sum.abs() * 1e-16 {
+                break;
+            }
+        }
+        (1.0 - sum * ln_prefactor.exp()).max(0.0)
+    } else {
+        let tiny = 1e-300;
+        let mut b = x + 1.0 - a;
+        let mut c = 1.0 / tiny;
+        let mut d = 1.0 / b;
+        let mut h = d;
+        for i in 1..10_000 {
+            let an = -(i as f64) * (i as f64 - a);
+            b += 2.0;
+            d = an * d + b;
+            if d.abs() < tiny {
+                d = tiny;
+            }
+            c = b + an / c;
+            if c.abs() < tiny {
+                c = tiny;
+            }
+            d = 1.0 / d;
+            let delta = d * c;
+            h *= delta;
+            if (delta - 1.0).abs() < 1e-16 {
+                break;
+            }
+        }
+        ln_prefactor.exp() * h
+    }
+}
+
+/// A folded mode of a family: plane, wave numbers, power, and its real dimensions (its noise
+/// power is dims x P0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mode {
+    pub plane: &'static str,
+    pub k1: usize,
+    pub k2: usize,
+    pub power: f64,
+    pub dims: usize,
+}
+
+/// The folded modes of each family ([`FAMILY_NAMES`] order) with their dimensions.
+/// Transverse: xy (0, k_y); along-flow: xy (k_x, 0); antisymmetric and symmetric rest: their
+/// fields' (k_x >= 1, k_y >= 1), where the reflection y -> W - y splits the dimensions of a
+/// folded mode evenly, except at the Nyquist k_y = n2/2, which is purely antisymmetric;
+/// spanwise: xz (k_x, k_z >= 1) and yz (k_y >= 1, k_z >= 1).
+pub fn family_modes(p: &FamilyPowers, n: [usize; 3]) -> [Vec<Mode>; 5] {
+    let [n1, n2, n3] = n;
+    let mut out: [Vec<Mode>; 5] = Default::default();
+    let (m1, m2) = folded_shape(n1, n2);
+    let at = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(0.0);
+    for k1 in 0..m1 {
+        for k2 in 0..m2 {
+            let i = k1 * m2 + k2;
+            let dims = multiplicity(k1, n1) * multiplicity(k2, n2);
+            let mode = |plane, power, dims| Mode {
+                plane,
+                k1,
+                k2,
+                power,
+                dims,
+            };
+            match (k1, k2) {
+                (0, 0) => {}
+                (0, _) => out[0].push(mode("xy", at(&p.xy, i), dims)),
+                (_, 0) => out[1].push(mode("xy", at(&p.xy, i), dims)),
+                _ => {
+                    let nyquist = 2 * k2 == n2;
+                    let (da, ds) = if nyquist {
+                        (dims, 0)
+                    } else {
+                        (dims / 2, dims / 2)
+                    };
+                    out[2].push(mode("xy-antisymmetric", at(&p.antisymmetric_modes, i), da));
+                    if ds > 0 {
+                        out[3].push(mode("xy-symmetric", at(&p.symmetric_modes, i), ds));
+                    }
+                }
+            }
+        }
+    }
+    for (plane, v, na) in [("xz", &p.xz, n1), ("yz", &p.yz, n2)] {
+        let (ma, m3) = folded_shape(na, n3);
+        for ka in 0..ma {
+            for k3 in 1..m3 {
+                if plane == "yz" && ka == 0 {
+                    continue; // (0, k_z) of yz is (0, k_z) of xz
+                }
+                out[4].push(Mode {
+                    plane,
+                    k1: ka,
+                    k2: k3,
+                    power: at(v, ka * m3 + k3),
+                    dims: multiplicity(ka, na) * multiplicity(k3, n3),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The strongest mode of a family relative to its peak-test threshold.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Peak {
+    pub mode: Mode,
+    /// power / (dims P0)
+    pub ratio: f64,
+    /// the peak-test threshold of that mode
+    pub threshold: f64,
 }
 
 /// The verdict on one set of family powers, with the numbers behind it.
@@ -207,39 +375,70 @@ pub struct Assessment {
     pub humps: u32,
     /// structure along z stands above noise
     pub three_dimensional: bool,
-    /// power / expected noise power, per family ([`FAMILY_NAMES`] order)
+    /// family power / expected noise power ([`FAMILY_NAMES`] order)
     pub ratios: [f64; 5],
-    /// the thresholds the ratios were compared with
+    /// the sum-test thresholds the ratios were compared with
     pub thresholds: [f64; 5],
+    /// the strongest mode of each family against its peak-test threshold
+    pub peaks: [Option<Peak>; 5],
+    /// max(ratio / threshold, peak ratio / peak threshold): > 1 means significant
+    pub significance: [f64; 5],
     /// dominant |k_x| of the antisymmetric excess power (0 if there is none)
     pub antisymmetric_kx: u32,
     /// fraction of the antisymmetric excess power in that k_x
     pub coherence: f64,
 }
 
-/// Name the structure from family powers averaged over `snapshots` snapshots, with noise P0
-/// per dimension, on grid `n`.
-pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64, snapshots: usize) -> Assessment {
+/// Name the structure from family powers (of one snapshot or averaged over a window), with
+/// noise P0 per dimension, on grid `n`.
+pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64) -> Assessment {
     let dims = family_dims(n);
     let powers = p.as_array();
+    let modes = family_modes(p, n);
     let mut ratios = [0.0; 5];
     let mut thresholds = [0.0; 5];
-    let mut sig = [false; 5];
+    let mut peaks: [Option<Peak>; 5] = [None; 5];
+    let mut significance = [0.0; 5];
     for f in 0..5 {
         ratios[f] = if dims[f] > 0 && p0 > 0.0 {
             powers[f] / (dims[f] as f64 * p0)
         } else {
             0.0
         };
-        thresholds[f] = threshold_ratio(dims[f], snapshots);
-        sig[f] = ratios[f] > thresholds[f];
+        thresholds[f] = threshold_ratio(dims[f]);
+        significance[f] = ratios[f] / thresholds[f];
+        let tested: Vec<&Mode> = modes[f].iter().filter(|m| m.dims > 0).collect();
+        if tested.is_empty() || p0 <= 0.0 {
+            continue;
+        }
+        // the family's false-alarm probability shared among its modes (Bonferroni)
+        let p_mode = false_alarm() / tested.len() as f64;
+        for m in tested {
+            let ratio = m.power / (m.dims as f64 * p0);
+            let threshold = chi2_ratio_quantile(m.dims as f64, p_mode).max(MIN_RATIO);
+            if peaks[f].is_none_or(|q| ratio / threshold > q.ratio / q.threshold) {
+                peaks[f] = Some(Peak {
+                    mode: *m,
+                    ratio,
+                    threshold,
+                });
+            }
+        }
+        if let Some(q) = peaks[f] {
+            significance[f] = significance[f].max(q.ratio / q.threshold);
+        }
     }
-    // excess antisymmetric power per |k_x| over its noise, floor(n2/2) dims per unfolded k_x
+    let sig = significance.map(|s| s > 1.0);
+    // excess antisymmetric power per |k_x| over its noise
+    let mut by_kx = vec![(0.0, 0usize); n[0] / 2 + 1];
+    for m in &modes[2] {
+        by_kx[m.k1].0 += m.power;
+        by_kx[m.k1].1 += m.dims;
+    }
     let mut best = (0usize, 0.0f64);
     let mut total = 0.0;
-    for (k, &pk) in p.antisymmetric_by_kx.iter().enumerate().skip(1) {
-        let noise = (multiplicity(k, n[0]) * (n[1] / 2)) as f64 * p0;
-        let excess = (pk - noise).max(0.0);
+    for (k, &(pk, d)) in by_kx.iter().enumerate().skip(1) {
+        let excess = (pk - d as f64 * p0).max(0.0);
         total += excess;
         if excess > best.1 {
             best = (k, excess);
@@ -268,6 +467,8 @@ pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64, snapshots: usize) -> Ass
         three_dimensional: span,
         ratios,
         thresholds,
+        peaks,
+        significance,
         antisymmetric_kx: best.0 as u32,
         coherence,
     }

@@ -7,25 +7,27 @@
 //!
 //! Modules: [`fields`] (grid and cellwise averages), [`spectrum`] (2D FFT power spectra),
 //! [`profiles`] (binwise profiles across the channel), [`steady`] (steady-state detector),
-//! [`classify`] (family decomposition vs shot noise, labels), [`snapshot_io`] (XYZ and VTK
-//! files). The definitions, defaults and thresholds are documented in README.md, section
+//! [`classify`] (family decomposition vs shot noise, labels), `report` (evolution, rows and
+//! strings of the result), [`snapshot_io`] (XYZ and VTK files). The definitions, defaults and thresholds are documented in README.md, section
 //! "Analysis and structure classifier".
 
 pub mod classify;
 pub mod fields;
 pub mod profiles;
+mod report;
 pub mod snapshot_io;
 pub mod spectrum;
 pub mod steady;
 
 pub use profiles::BinSums;
+pub use report::MIN_LABEL_RUN;
 pub use snapshot_io::{write_vtk_density, write_xyz};
 
 use crate::engine::Snapshot;
 use classify::{FamilyPowers, assess, family_powers, noise_per_mode};
 use fields::{Grid, SPHERE_VOLUME, cell_counts, plane_counts};
+use report::{dominant_modes, empty_summary, family_peaks, spectrum_rows, structure_evolution};
 use serde::{Deserialize, Serialize};
-use spectrum::{fold, folded_shape, multiplicity, power_2d};
 
 /// Analysis settings of a sweep or job (all have documented defaults).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -186,6 +188,15 @@ pub struct Summary {
     pub threshold_antisymmetric: f64,
     pub threshold_symmetric_rest: f64,
     pub threshold_spanwise: f64,
+    /// max(ratio / threshold, peak ratio / peak threshold) of each family: > 1 is significant
+    /// (the sum test over the whole family or the peak test on its strongest mode)
+    pub significance_transverse: f64,
+    pub significance_along_flow: f64,
+    pub significance_antisymmetric: f64,
+    pub significance_symmetric_rest: f64,
+    pub significance_spanwise: f64,
+    /// each family's strongest folded mode: "family plane(k1,k2) ratio/threshold" joined by "; "
+    pub family_peaks: String,
     /// dominant |k_x| of the antisymmetric excess power and the fraction of that excess in it
     pub antisymmetric_kx: u32,
     pub antisymmetric_coherence: f64,
@@ -335,7 +346,7 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         let p0 = noise_per_mode(q.particles as usize, q.grid_volume);
         // window average of the families and the spectra
         let used: Vec<&SnapshotRecord> = in_window.iter().filter(|r| same_grid(r)).collect();
-        let mut avg = FamilyPowers::zero(n[0]);
+        let mut avg = FamilyPowers::zero(n);
         for (r, f) in records.iter().zip(&families).skip(window.start) {
             if let Some(f) = f {
                 debug_assert!(same_grid(r));
@@ -349,12 +360,19 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
             ));
         }
         if !used.is_empty() {
-            let a = assess(&avg, n, p0, used.len());
-            let xy_avg = averaged_spectrum(&used, 0);
-            summary.dominant_modes = dominant_modes(&xy_avg, n[0], n[1], p0, 5);
-            for plane in 0..3 {
-                spectra.extend(spectrum_rows(&averaged_spectrum(&used, plane), n, plane));
+            let a = assess(&avg, n, p0);
+            summary.dominant_modes = dominant_modes(&avg.xy, n[0], n[1], p0, 5);
+            for (plane, folded) in [&avg.xy, &avg.xz, &avg.yz].into_iter().enumerate() {
+                spectra.extend(spectrum_rows(folded, n, plane));
             }
+            [
+                summary.significance_transverse,
+                summary.significance_along_flow,
+                summary.significance_antisymmetric,
+                summary.significance_symmetric_rest,
+                summary.significance_spanwise,
+            ] = a.significance;
+            summary.family_peaks = family_peaks(&a);
             summary.power_transverse = avg.transverse;
             summary.power_along_flow = avg.along_flow;
             summary.power_antisymmetric = avg.antisymmetric;
@@ -429,164 +447,5 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         profiles,
         energy,
         evolution,
-    }
-}
-
-/// Minimum run of equal per-snapshot labels that counts as a change of structure (a single
-/// snapshot that differs from its neighbours is a flicker near a threshold, not a change).
-pub const MIN_LABEL_RUN: usize = 2;
-
-/// Per-snapshot labels (each snapshot assessed alone) reduced to their changes: the first
-/// entry is the first snapshot's label; a later entry marks the first snapshot of a run of at
-/// least [`MIN_LABEL_RUN`] snapshots with a new (label, humps).
-fn structure_evolution(
-    records: &[SnapshotRecord],
-    families: &[Option<FamilyPowers>],
-    n: [usize; 3],
-    p0: f64,
-) -> Vec<StructureChange> {
-    let labels: Vec<(f64, &'static str, u32)> = records
-        .iter()
-        .zip(families)
-        .filter_map(|(r, f)| {
-            f.as_ref().map(|f| {
-                let a = assess(f, n, p0, 1);
-                (r.collisions_per_particle, a.label, a.humps)
-            })
-        })
-        .collect();
-    let mut out: Vec<StructureChange> = Vec::new();
-    for (i, &(cpp, label, humps)) in labels.iter().enumerate() {
-        let same_as_current = out
-            .last()
-            .is_some_and(|c| c.label == label && c.humps == humps);
-        if same_as_current {
-            continue;
-        }
-        let confirmed = out.is_empty()
-            || labels[i..]
-                .iter()
-                .take(MIN_LABEL_RUN)
-                .filter(|l| l.1 == label && l.2 == humps)
-                .count()
-                == MIN_LABEL_RUN;
-        if confirmed {
-            out.push(StructureChange {
-                collisions_per_particle: cpp,
-                label: label.into(),
-                humps,
-            });
-        }
-    }
-    out
-}
-
-/// Folded spectrum of plane `plane` (0 xy, 1 xz, 2 yz) averaged over `records`.
-fn averaged_spectrum(records: &[&SnapshotRecord], plane: usize) -> Vec<f64> {
-    let Some(first) = records.first() else {
-        return Vec::new();
-    };
-    let (a, b) = plane_dims(first.grid.map(|k| k as usize), plane);
-    let (m1, m2) = folded_shape(a, b);
-    let mut avg = vec![0.0; m1 * m2];
-    for r in records {
-        let fields = plane_fields(r);
-        let p = fold(&power_2d(&fields[plane], a, b), a, b);
-        for (s, v) in avg.iter_mut().zip(p) {
-            *s += v / records.len() as f64;
-        }
-    }
-    avg
-}
-
-/// Grid sizes (first, second axis) of a plane.
-fn plane_dims(n: [usize; 3], plane: usize) -> (usize, usize) {
-    match plane {
-        0 => (n[0], n[1]),
-        1 => (n[0], n[2]),
-        _ => (n[1], n[2]),
-    }
-}
-
-/// Rows of a folded spectrum (without the mean (0, 0)).
-fn spectrum_rows(folded: &[f64], n: [usize; 3], plane: usize) -> Vec<SpectrumRow> {
-    let (a, b) = plane_dims(n, plane);
-    let (m1, m2) = folded_shape(a, b);
-    let name = ["xy", "xz", "yz"][plane];
-    let mut rows = Vec::with_capacity(m1 * m2);
-    for k1 in 0..m1 {
-        for k2 in 0..m2 {
-            if k1 + k2 > 0 && k1 * m2 + k2 < folded.len() {
-                rows.push(SpectrumRow {
-                    plane: name.into(),
-                    k1: k1 as u32,
-                    k2: k2 as u32,
-                    power: folded[k1 * m2 + k2],
-                });
-            }
-        }
-    }
-    rows
-}
-
-/// The `count` strongest modes of a folded xy spectrum as "(k_x,k_y) P [P/noise]".
-fn dominant_modes(folded: &[f64], n1: usize, n2: usize, p0: f64, count: usize) -> String {
-    let (m1, m2) = folded_shape(n1, n2);
-    let mut modes: Vec<(usize, usize, f64)> = (0..m1)
-        .flat_map(|k1| (0..m2).map(move |k2| (k1, k2)))
-        .filter(|&(k1, k2)| k1 + k2 > 0)
-        .map(|(k1, k2)| (k1, k2, folded[k1 * m2 + k2]))
-        .collect();
-    modes.sort_by(|a, b| b.2.total_cmp(&a.2).then((a.0, a.1).cmp(&(b.0, b.1))));
-    modes
-        .iter()
-        .take(count)
-        .map(|&(k1, k2, p)| {
-            let noise = (multiplicity(k1, n1) * multiplicity(k2, n2)) as f64 * p0;
-            format!("({k1},{k2}) {p:.3e} [{:.1}x]", p / noise)
-        })
-        .collect::<Vec<_>>()
-        .join("; ")
-}
-
-/// A summary before anything is known.
-fn empty_summary() -> Summary {
-    Summary {
-        label: "not-steady".into(),
-        humps: 0,
-        three_dimensional: false,
-        steady: false,
-        steady_start: f64::NAN,
-        steady_end: f64::NAN,
-        steady_snapshots: 0,
-        power_transverse: f64::NAN,
-        power_along_flow: f64::NAN,
-        power_antisymmetric: f64::NAN,
-        power_symmetric_rest: f64::NAN,
-        power_spanwise: f64::NAN,
-        noise_level: f64::NAN,
-        mean_translational_energy: f64::NAN,
-        mean_rotational_energy: f64::NAN,
-        slip_velocity: f64::NAN,
-        window_start: f64::NAN,
-        window_end: f64::NAN,
-        ratio_transverse: f64::NAN,
-        ratio_along_flow: f64::NAN,
-        ratio_antisymmetric: f64::NAN,
-        ratio_symmetric_rest: f64::NAN,
-        ratio_spanwise: f64::NAN,
-        threshold_transverse: f64::NAN,
-        threshold_along_flow: f64::NAN,
-        threshold_antisymmetric: f64::NAN,
-        threshold_symmetric_rest: f64::NAN,
-        threshold_spanwise: f64::NAN,
-        antisymmetric_kx: 0,
-        antisymmetric_coherence: f64::NAN,
-        dominant_modes: String::new(),
-        grid_x: 0,
-        grid_y: 0,
-        grid_z: 0,
-        particles: 0,
-        note: String::new(),
     }
 }

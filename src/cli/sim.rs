@@ -220,43 +220,42 @@ fn print_analysis(a: &JobAnalysis) {
         s.grid_x, s.grid_y, s.grid_z, s.particles, s.noise_level
     );
     println!(
-        "{:<16} {:>12} {:>10} {:>10}",
-        "family", "power", "P/noise", "threshold"
+        "{:<16} {:>12} {:>10} {:>10} {:>13}",
+        "family", "power", "P/noise", "threshold", "significance"
     );
-    for (name, p, r, t) in [
-        (
-            "transverse",
-            s.power_transverse,
-            s.ratio_transverse,
-            s.threshold_transverse,
-        ),
-        (
-            "along-flow",
-            s.power_along_flow,
-            s.ratio_along_flow,
-            s.threshold_along_flow,
-        ),
+    let rows = [
+        ("transverse", s.power_transverse, s.ratio_transverse),
+        ("along-flow", s.power_along_flow, s.ratio_along_flow),
         (
             "antisymmetric",
             s.power_antisymmetric,
             s.ratio_antisymmetric,
-            s.threshold_antisymmetric,
         ),
         (
             "symmetric-rest",
             s.power_symmetric_rest,
             s.ratio_symmetric_rest,
-            s.threshold_symmetric_rest,
         ),
-        (
-            "spanwise",
-            s.power_spanwise,
-            s.ratio_spanwise,
-            s.threshold_spanwise,
-        ),
-    ] {
-        println!("{name:<16} {p:>12.4e} {r:>10.2} {t:>10.2}");
+        ("spanwise", s.power_spanwise, s.ratio_spanwise),
+    ];
+    let thresholds = [
+        s.threshold_transverse,
+        s.threshold_along_flow,
+        s.threshold_antisymmetric,
+        s.threshold_symmetric_rest,
+        s.threshold_spanwise,
+    ];
+    let significance = [
+        s.significance_transverse,
+        s.significance_along_flow,
+        s.significance_antisymmetric,
+        s.significance_symmetric_rest,
+        s.significance_spanwise,
+    ];
+    for (((name, p, r), t), g) in rows.into_iter().zip(thresholds).zip(significance) {
+        println!("{name:<16} {p:>12.4e} {r:>10.2} {t:>10.2} {g:>13.2}");
     }
+    println!("family peaks (ratio/threshold): {}", s.family_peaks);
     println!(
         "antisymmetric: dominant k_x = {}, coherence {:.2}",
         s.antisymmetric_kx, s.antisymmetric_coherence
