@@ -101,6 +101,8 @@ pub struct EdmdEngine {
     /// current simulated time (time of the last event, or of the last stop)
     now: f64,
     kin: Vec<Kinematics>,
+    /// particle id of each storage slot (slots are re-sorted by cell at every rebuild)
+    ids: Vec<u32>,
     /// w, angular velocities (constant between collisions)
     angular: Vec<[f64; 3]>,
     /// time of each particle's last collision (pair or wall), for the TC model
@@ -199,6 +201,7 @@ impl EdmdEngine {
             },
             now: state.now,
             kin,
+            ids: (0..n as u32).collect(),
             angular: state.angular_velocities,
             last_collision: state.last_collision,
             event: vec![EventKind::None; n],
@@ -243,6 +246,7 @@ impl EdmdEngine {
             + std::mem::size_of::<f64>()
             + std::mem::size_of::<EventKind>()
             + std::mem::size_of::<PairCandidate>()
+            + std::mem::size_of::<u32>()
             + self.queue.bytes_per_particle();
         (per * n + self.cells.bytes()) as f64 / n as f64
     }
@@ -270,6 +274,22 @@ impl EdmdEngine {
                 }
             }
         }
+        // store particles in cell order (ties by particle id, so the order depends on the
+        // state alone): the partners a search reads then sit close together in memory
+        let axes = self.cells.axes;
+        self.cells = CellGrid::new(axes, n);
+        let cell_of: Vec<usize> = (0..n)
+            .map(|s| self.cells.index(self.cells.locate(self.kin[s].position)))
+            .collect();
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_unstable_by_key(|&s| (cell_of[s], self.ids[s]));
+        self.kin = order.iter().map(|&s| self.kin[s]).collect();
+        self.angular = order.iter().map(|&s| self.angular[s]).collect();
+        self.last_collision = order.iter().map(|&s| self.last_collision[s]).collect();
+        self.ids = order.iter().map(|&s| self.ids[s]).collect();
+        for (slot, &s) in order.iter().enumerate() {
+            self.cells.insert(slot as u32, cell_of[s]);
+        }
         // the grid drifts with the mean flow along gravity (U = <c_x>); none without gravity
         self.grid_epoch = self.now;
         self.grid_drift = if self.params.gravity > 0.0 {
@@ -279,13 +299,6 @@ impl EdmdEngine {
         };
         let period = REBUILD_EVENTS_PER_PARTICLE * n as u64;
         self.next_rebuild = (self.counters.events / period + 1) * period;
-        let axes = self.cells.axes;
-        self.cells = CellGrid::new(axes, n);
-        for i in 0..n {
-            let c = self.cells.locate(self.kin[i].position);
-            let flat = self.cells.index(c);
-            self.cells.insert(i as u32, flat);
-        }
         // predict every particle's next event, then size the calendar from their spread:
         // about four events per bucket near `now`, a year of buckets spanning ~4 mean times
         let times: Vec<f64> = (0..n).map(|i| self.predict(i)).collect();
@@ -616,10 +629,11 @@ impl EdmdEngine {
         self.dissipated += out.dissipated;
         self.counters.pair_collisions += 1;
         if let Some(log) = &mut self.log {
+            let (a, b) = (self.ids[i], self.ids[j]);
             log.push(PhysicalEvent::Pair {
                 time: t,
-                first: i.min(j) as u32,
-                second: i.max(j) as u32,
+                first: a.min(b),
+                second: a.max(b),
             });
         }
     }
@@ -653,7 +667,7 @@ impl EdmdEngine {
         if let Some(log) = &mut self.log {
             log.push(PhysicalEvent::Wall {
                 time: self.now,
-                particle: i as u32,
+                particle: self.ids[i],
                 upper,
             });
         }
@@ -696,12 +710,21 @@ impl EdmdEngine {
         2.0 * self.counters.pair_collisions as f64 / self.kin.len() as f64
     }
 
+    /// Per-slot data rearranged by particle id (the order of snapshots and checkpoints).
+    fn by_id<T: Copy + Default>(&self, per_slot: &[T]) -> Vec<T> {
+        let mut out = vec![T::default(); per_slot.len()];
+        for (slot, &id) in self.ids.iter().enumerate() {
+            out[id as usize] = per_slot[slot];
+        }
+        out
+    }
+
     /// Current state as plain data (particles at their local times brought to `now`).
     fn state(&self) -> EngineState {
         let g = self.params.gravity;
         let (positions, velocities) = self
-            .kin
-            .iter()
+            .by_id(&self.kin)
+            .into_iter()
             .map(|k| fly(k.position, k.velocity, g, self.now - k.time))
             .unzip();
         EngineState {
@@ -709,8 +732,8 @@ impl EdmdEngine {
             now: self.now,
             positions,
             velocities,
-            angular_velocities: self.angular.clone(),
-            last_collision: self.last_collision.clone(),
+            angular_velocities: self.by_id(&self.angular),
+            last_collision: self.by_id(&self.last_collision),
             counters: self.counters,
             wall_momentum: self.wall_momentum,
             dissipated: self.dissipated,
@@ -791,9 +814,9 @@ impl Engine for EdmdEngine {
             geometry: self.params.geometry,
             inertia_factor: self.params.inertia_factor,
             gravity: self.params.gravity,
-            positions: self.kin.iter().map(|k| k.position).collect(),
-            velocities: self.kin.iter().map(|k| k.velocity).collect(),
-            angular_velocities: self.angular.clone(),
+            positions: self.by_id(&self.kin).iter().map(|k| k.position).collect(),
+            velocities: self.by_id(&self.kin).iter().map(|k| k.velocity).collect(),
+            angular_velocities: self.by_id(&self.angular),
             counters: self.counters,
             translational_energy,
             rotational_energy,
