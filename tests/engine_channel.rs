@@ -47,25 +47,50 @@ fn channel_flow_balances_momentum_and_energy() {
     let mut previous: Option<Snapshot> = None;
     let (mut momentum_ratio, mut power_ratio) = (Vec::new(), Vec::new());
     for b in 0..=blocks {
-        engine.advance(StopAt::CollisionsPerParticle(warm_up + b as f64 * block_cpp)).unwrap();
+        engine
+            .advance(StopAt::CollisionsPerParticle(
+                warm_up + b as f64 * block_cpp,
+            ))
+            .unwrap();
         let s = engine.snapshot();
         // exact identities, to round-off
         let momentum_defect = wall_impulse_x(&s) - (n * g * s.time - (momentum_x(&s) - p0));
         let momentum_scale = n * g * s.time;
-        assert!(momentum_defect.abs() <= 1e-9 * momentum_scale, "momentum defect {momentum_defect} of {momentum_scale}");
+        assert!(
+            momentum_defect.abs() <= 1e-9 * momentum_scale,
+            "momentum defect {momentum_defect} of {momentum_scale}"
+        );
         let energy_defect = s.gravity_work - s.energy_dissipated - (kinetic_energy(&s) - e0);
-        assert!(energy_defect.abs() <= 1e-9 * s.gravity_work, "energy defect {energy_defect} of {}", s.gravity_work);
+        assert!(
+            energy_defect.abs() <= 1e-9 * s.gravity_work,
+            "energy defect {energy_defect} of {}",
+            s.gravity_work
+        );
         if let Some(p) = &previous {
             let dt = s.time - p.time;
             momentum_ratio.push((wall_impulse_x(&s) - wall_impulse_x(p)) / (n * g * dt));
-            power_ratio.push((s.energy_dissipated - p.energy_dissipated) / (s.gravity_work - p.gravity_work));
+            power_ratio.push(
+                (s.energy_dissipated - p.energy_dissipated) / (s.gravity_work - p.gravity_work),
+            );
         }
         previous = Some(s);
     }
-    for (name, ratios) in [("wall momentum / (N m g)", &momentum_ratio), ("dissipation / gravity power", &power_ratio)] {
+    for (name, ratios) in [
+        ("wall momentum / (N m g)", &momentum_ratio),
+        ("dissipation / gravity power", &power_ratio),
+    ] {
         let (mean, se) = mean_and_standard_error(ratios);
-        eprintln!("{name}: {mean:.5} +- {se:.5} over {} blocks of {block_cpp} cpp", ratios.len());
-        assert!(se < 0.02, "{name}: standard error {se} too large for a meaningful check");
-        assert!((mean - 1.0).abs() < 3.0 * se, "{name}: {mean} differs from 1 by more than 3 standard errors ({se})");
+        eprintln!(
+            "{name}: {mean:.5} +- {se:.5} over {} blocks of {block_cpp} cpp",
+            ratios.len()
+        );
+        assert!(
+            se < 0.02,
+            "{name}: standard error {se} too large for a meaningful check"
+        );
+        assert!(
+            (mean - 1.0).abs() < 3.0 * se,
+            "{name}: {mean} differs from 1 by more than 3 standard errors ({se})"
+        );
     }
 }

@@ -13,7 +13,9 @@ fn channel() -> EdmdParams {
 fn run(engine: &mut dyn engine::Engine, from: usize, to: usize) -> Snapshot {
     let mut last = None;
     for k in from + 1..=to {
-        engine.advance(StopAt::CollisionsPerParticle(20.0 * k as f64)).unwrap();
+        engine
+            .advance(StopAt::CollisionsPerParticle(20.0 * k as f64))
+            .unwrap();
         last = Some(engine.snapshot());
     }
     last.unwrap()
@@ -22,10 +24,20 @@ fn run(engine: &mut dyn engine::Engine, from: usize, to: usize) -> Snapshot {
 fn assert_bitwise_equal(a: &Snapshot, b: &Snapshot) {
     assert_eq!(a.time.to_bits(), b.time.to_bits(), "time");
     assert_eq!(a.counters, b.counters, "counters");
-    let bits = |v: &Vec<[f64; 3]>| v.iter().flat_map(|x| x.map(f64::to_bits)).collect::<Vec<_>>();
+    let bits = |v: &Vec<[f64; 3]>| {
+        v.iter()
+            .flat_map(|x| x.map(f64::to_bits))
+            .collect::<Vec<_>>()
+    };
     assert!(bits(&a.positions) == bits(&b.positions), "positions differ");
-    assert!(bits(&a.velocities) == bits(&b.velocities), "velocities differ");
-    assert!(bits(&a.angular_velocities) == bits(&b.angular_velocities), "angular velocities differ");
+    assert!(
+        bits(&a.velocities) == bits(&b.velocities),
+        "velocities differ"
+    );
+    assert!(
+        bits(&a.angular_velocities) == bits(&b.angular_velocities),
+        "angular velocities differ"
+    );
     assert_eq!(a.energy_dissipated.to_bits(), b.energy_dissipated.to_bits());
     assert_eq!(a.gravity_work.to_bits(), b.gravity_work.to_bits());
     assert_eq!(a.wall_momentum, b.wall_momentum);

@@ -31,9 +31,18 @@ fn huthmann_zippelius_ratio(e: f64, beta: f64, k: f64) -> f64 {
 
 #[test]
 fn formula_reproduces_the_table_of_oracles_md() {
-    for (e, beta, table) in [(1.0, -0.5, 0.1549), (1.0, 0.0, 0.4), (0.9, 0.8, 1.0274), (0.8, -0.5, 1.4471), (0.5, 0.5, 1.5702)] {
+    for (e, beta, table) in [
+        (1.0, -0.5, 0.1549),
+        (1.0, 0.0, 0.4),
+        (0.9, 0.8, 1.0274),
+        (0.8, -0.5, 1.4471),
+        (0.5, 0.5, 1.5702),
+    ] {
         let r = huthmann_zippelius_ratio(e, beta, 0.4);
-        assert!((r - table).abs() < 6e-5, "e = {e}, beta = {beta}: {r} vs table {table}");
+        assert!(
+            (r - table).abs() < 6e-5,
+            "e = {e}, beta = {beta}: {r} vs table {table}"
+        );
     }
 }
 
@@ -45,7 +54,9 @@ fn measured_ratio(e: f64, beta: f64, seed: u64) -> f64 {
     engine.advance(StopAt::CollisionsPerParticle(40.0)).unwrap();
     let mut ratios = Vec::new();
     for s in 1..=40 {
-        engine.advance(StopAt::CollisionsPerParticle(40.0 + s as f64)).unwrap();
+        engine
+            .advance(StopAt::CollisionsPerParticle(40.0 + s as f64))
+            .unwrap();
         let snap = engine.snapshot();
         ratios.push(snap.rotational_energy / snap.translational_energy);
     }
@@ -59,12 +70,22 @@ fn rotational_to_translational_temperature_ratio_matches_huthmann_zippelius() {
     // (beta <= 0) are left out: there the Maxwellian closure of the theory misses the
     // translation-rotation correlations (Kranz et al., EPJ ST 179, 91, 2009; Santos et al.,
     // PRE 84, 2011) and the engine measures R/T 4-6 % below it (README, "Engine").
-    let cases = [(1.0, 0.5), (1.0, 0.8), (0.9, 0.5), (0.9, 0.8), (0.8, 0.5), (0.5, 0.8)];
+    let cases = [
+        (1.0, 0.5),
+        (1.0, 0.8),
+        (0.9, 0.5),
+        (0.9, 0.8),
+        (0.8, 0.5),
+        (0.5, 0.8),
+    ];
     for (k, (e, beta)) in cases.into_iter().enumerate() {
         let mean = measured_ratio(e, beta, 20 + k as u64);
         let expected = huthmann_zippelius_ratio(e, beta, 0.4);
         eprintln!("e = {e}, beta = {beta}: R/T = {mean:.4}, Huthmann-Zippelius {expected:.4}");
-        assert!((mean / expected - 1.0).abs() < 0.03, "e = {e}, beta = {beta}: R/T = {mean} vs {expected}");
+        assert!(
+            (mean / expected - 1.0).abs() < 0.03,
+            "e = {e}, beta = {beta}: R/T = {mean} vs {expected}"
+        );
     }
 }
 
@@ -75,7 +96,8 @@ fn smooth_spheres_follow_haffs_law() {
     let start = engine.snapshot();
     let t0_temp = 2.0 * start.translational_energy / (3.0 * n as f64);
     let g = (1.0 - phi / 2.0) / (1.0 - phi).powi(3);
-    let omega0 = 4.0 * (phi / (std::f64::consts::PI / 6.0)) * g * (std::f64::consts::PI * t0_temp).sqrt();
+    let omega0 =
+        4.0 * (phi / (std::f64::consts::PI / 6.0)) * g * (std::f64::consts::PI * t0_temp).sqrt();
     let t0 = 6.0 / ((1.0 - e * e) * omega0);
     let mut worst: f64 = 0.0;
     for k in 1..=8 {
@@ -85,7 +107,11 @@ fn smooth_spheres_follow_haffs_law() {
         let temp = 2.0 * s.translational_energy / (3.0 * n as f64);
         let haff = t0_temp / (1.0 + t / t0).powi(2);
         worst = worst.max((temp / haff - 1.0).abs());
-        assert!((temp / haff - 1.0).abs() < 0.03, "t/t0 = {}: T = {temp}, Haff {haff}", t / t0);
+        assert!(
+            (temp / haff - 1.0).abs() < 0.03,
+            "t/t0 = {}: T = {temp}, Haff {haff}",
+            t / t0
+        );
     }
     eprintln!("Haff's law: largest relative deviation {worst:.4}");
 }

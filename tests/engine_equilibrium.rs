@@ -46,13 +46,23 @@ fn elastic_spheres_conserve_energy_never_overlap_and_are_maxwellian() {
     let (mut m2, mut m4, mut samples) = (0.0, 0.0, 0.0);
     // 1372 * 1500 / 2 = 1.03 million collisions
     for k in 1..=30 {
-        engine.advance(StopAt::CollisionsPerParticle(50.0 * k as f64)).unwrap();
+        engine
+            .advance(StopAt::CollisionsPerParticle(50.0 * k as f64))
+            .unwrap();
         let s = engine.snapshot();
         let drift = (s.translational_energy - e0).abs() / e0;
-        assert!(drift < 1e-10, "energy drift {drift:e} after {} collisions", s.counters.pair_collisions);
+        assert!(
+            drift < 1e-10,
+            "energy drift {drift:e} after {} collisions",
+            s.counters.pair_collisions
+        );
         assert!(s.rotational_energy == engine.snapshot().rotational_energy);
         let dmin = min_distance(&s);
-        assert!(dmin > 1.0 - 1e-9, "overlap: closest pair at {dmin} at t = {}", s.time);
+        assert!(
+            dmin > 1.0 - 1e-9,
+            "overlap: closest pair at {dmin} at t = {}",
+            s.time
+        );
         if k > 2 {
             for c in &s.velocities {
                 for &v in c {
@@ -68,12 +78,18 @@ fn elastic_spheres_conserve_energy_never_overlap_and_are_maxwellian() {
     let kt = 2.0 * e0 / (3.0 * 1372.0);
     let variance = m2 / samples;
     let kurtosis = (m4 / samples) / (variance * variance);
-    eprintln!("velocity variance / kT = {:.6}, kurtosis = {kurtosis:.4}", variance / kt);
+    eprintln!(
+        "velocity variance / kT = {:.6}, kurtosis = {kurtosis:.4}",
+        variance / kt
+    );
     // 28 snapshots x 4116 components; snapshots 50 collisions apart are independent: the
     // standard error of the variance is sqrt(2/M) = 0.3 %, of the kurtosis sqrt(24/M) = 1.4 %;
     // the variance is fixed by energy conservation (up to the 3 momentum constraints), so
     // it is checked to 1e-3, the kurtosis to 5 % (3.5 standard errors)
-    assert!((variance / kt - 1.0).abs() < 1e-3, "variance {variance} vs kT {kt}");
+    assert!(
+        (variance / kt - 1.0).abs() < 1e-3,
+        "variance {variance} vs kT {kt}"
+    );
     assert!((kurtosis - 3.0).abs() < 0.15, "kurtosis {kurtosis}");
 }
 
@@ -82,9 +98,13 @@ fn elastic_spheres_conserve_energy_never_overlap_and_are_maxwellian() {
 fn measured_collision_frequency(params: EdmdParams, warmup: f64, cpp: f64) -> (f64, f64) {
     let n = params.particles as f64;
     let mut engine = EdmdEngine::new(params).unwrap();
-    engine.advance(StopAt::CollisionsPerParticle(warmup)).unwrap();
+    engine
+        .advance(StopAt::CollisionsPerParticle(warmup))
+        .unwrap();
     let a = engine.snapshot();
-    engine.advance(StopAt::CollisionsPerParticle(warmup + cpp)).unwrap();
+    engine
+        .advance(StopAt::CollisionsPerParticle(warmup + cpp))
+        .unwrap();
     let b = engine.snapshot();
     let kt = 2.0 * b.translational_energy / (3.0 * n);
     let collisions = (b.counters.pair_collisions - a.counters.pair_collisions) as f64;
@@ -102,7 +122,10 @@ fn mean_free_time_matches_lue_2005() {
     // the measured temperature is 1 up to the mean-momentum removal (1 - 1/N)
     let tau = 1.0 / omega * kt.sqrt();
     eprintln!("mean free time {tau:.5} (Lue 2005: 0.13031)");
-    assert!((tau / 0.13031 - 1.0).abs() < 0.01, "mean free time {tau} vs 0.13031 (Lue 2005)");
+    assert!(
+        (tau / 0.13031 - 1.0).abs() < 0.01,
+        "mean free time {tau} vs 0.13031 (Lue 2005)"
+    );
 }
 
 #[test]

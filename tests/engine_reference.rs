@@ -156,8 +156,12 @@ fn fast_engine_matches_all_pairs_engine_in_developed_flow_with_drifting_grid() {
         let mut warm = EdmdEngine::new(params.clone()).unwrap();
         warm.advance(StopAt::CollisionsPerParticle(40.0)).unwrap();
         let snapshot = warm.snapshot();
-        let mean_flow = snapshot.velocities.iter().map(|v| v[0]).sum::<f64>() / snapshot.len() as f64;
-        assert!(mean_flow > 1.0, "seed {seed}: the flow has not developed (U = {mean_flow})");
+        let mean_flow =
+            snapshot.velocities.iter().map(|v| v[0]).sum::<f64>() / snapshot.len() as f64;
+        assert!(
+            mean_flow > 1.0,
+            "seed {seed}: the flow has not developed (U = {mean_flow})"
+        );
         let fast = EdmdEngine::restore(&warm.checkpoint()).unwrap();
         let slow = ReferenceEngine::from_snapshot(params, &snapshot);
         compare_engines(fast, slow, 100);

@@ -122,13 +122,21 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     );
     let selected: Vec<Workload> = workloads(&args)
         .into_iter()
-        .filter(|w| args.workload.as_ref().is_none_or(|s| w.name.contains(s.as_str())))
+        .filter(|w| {
+            args.workload
+                .as_ref()
+                .is_none_or(|s| w.name.contains(s.as_str()))
+        })
         .collect();
     anyhow::ensure!(
         !selected.is_empty(),
         "no workload matches {:?}; workloads: {}",
         args.workload.as_deref().unwrap_or(""),
-        workloads(&args).iter().map(|w| w.name).collect::<Vec<_>>().join(", ")
+        workloads(&args)
+            .iter()
+            .map(|w| w.name)
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     let machine = machine();
     if args.json {

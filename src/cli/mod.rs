@@ -6,8 +6,8 @@ mod phase_diagram;
 mod plan;
 mod run;
 mod sim;
-mod status;
 mod slurm;
+mod status;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -67,7 +67,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             .unwrap_or_else(|| RunOptions::default().threads),
         retry_failed: args.retry_failed,
         job_range,
-        write_tables: true,
+        // a --job-range run is one slice of a sweep (a Slurm array task): writing the whole
+        // sweep's tables from every slice would cost O(jobs) per task; `gather` does it once
+        write_tables: job_range.is_none(),
     };
     let summary = run_sweep(&sweep, &dirs, &opts)?;
     let jobs = tables::collect(&sweep, &dirs);
@@ -85,7 +87,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             }
         }
     }
-    if jobs.iter().all(|j| j.result.is_some()) {
+    if job_range.is_some() {
+        println!(
+            "slice done; run `granflow gather {}` for the tables and the phase diagram",
+            dirs.tables.display()
+        );
+    } else if jobs.iter().all(|j| j.result.is_some()) {
         let swept = phase::swept_in(&sweep, &jobs);
         if let Some(&x) = swept.first() {
             let y = swept.get(1).copied();

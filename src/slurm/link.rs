@@ -88,11 +88,13 @@ impl SweepLink for RunnerLink {
         let (_, dirs) = open_results(sweep_dir)?;
         Ok(job_ids
             .iter()
-            .map(|id| match queue::job_state(&dirs.job_dir(&JobId(id.clone()))) {
-                queue::JobState::Done => JobDirState::Done,
-                queue::JobState::Failed(e) => JobDirState::Failed(e),
-                _ => JobDirState::Unfinished,
-            })
+            .map(
+                |id| match queue::job_state(&dirs.job_dir(&JobId(id.clone()))) {
+                    queue::JobState::Done => JobDirState::Done,
+                    queue::JobState::Failed(e) => JobDirState::Failed(e),
+                    _ => JobDirState::Unfinished,
+                },
+            )
             .collect())
     }
 }

@@ -593,7 +593,11 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                 format!(
                     "\"{}\" is neither swept nor fixed; allowed: {}",
                     link.follows,
-                    axes.keys().chain(fixed.keys()).cloned().collect::<Vec<_>>().join(", ")
+                    axes.keys()
+                        .chain(fixed.keys())
+                        .cloned()
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             ));
         }

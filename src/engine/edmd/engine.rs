@@ -470,7 +470,8 @@ impl EdmdEngine {
                         }
                         let other = &self.kin[j as usize];
                         // partner brought to `now` on the fly (its stored state is not touched)
-                        let (rj, cj) = fly(other.position, other.velocity, g, self.now - other.time);
+                        let (rj, cj) =
+                            fly(other.position, other.velocity, g, self.now - other.time);
                         let r = [
                             me.position[0] - (rj[0] + sx),
                             me.position[1] - (rj[1] + sy),
