@@ -161,33 +161,15 @@ impl Fields {
             .iter()
             .map(|r| grid.linear(grid.cell_of(*r)))
             .collect();
-        let mut count = vec![0u32; m];
-        let mut sum_c = vec![[0.0; 3]; m];
-        let mut sum_w = vec![[0.0; 3]; m];
-        for (p, &c) in cells.iter().enumerate() {
-            count[c] += 1;
-            for a in 0..3 {
-                sum_c[c][a] += snapshot.velocities[p][a];
-                sum_w[c][a] += snapshot.angular_velocities[p][a];
-            }
-        }
-        let mean = |s: &[f64; 3], n: u32| {
-            if n == 0 {
-                [0.0; 3]
-            } else {
-                s.map(|v| v / n as f64)
-            }
-        };
-        let velocity: Vec<[f64; 3]> = (0..m).map(|c| mean(&sum_c[c], count[c])).collect();
-        let spin: Vec<[f64; 3]> = (0..m).map(|c| mean(&sum_w[c], count[c])).collect();
-        let mut sq_c = vec![0.0; m];
-        let mut sq_w = vec![0.0; m];
-        for (p, &c) in cells.iter().enumerate() {
-            sq_c[c] += dist2(snapshot.velocities[p], velocity[c]);
-            sq_w[c] += dist2(snapshot.angular_velocities[p], spin[c]);
-        }
+        let CellMoments {
+            count,
+            mean_velocity: velocity,
+            fluctuation_c2: sq_c,
+            fluctuation_w2: sq_w,
+            ..
+        } = CellMoments::compute(snapshot, &cells, m);
         let inertia = snapshot.inertia_factor / 4.0;
-        let pooled = |s: f64, n: u32| {
+        let pooled = |s: f64, n: u64| {
             if n < 2 {
                 0.0
             } else {
@@ -206,7 +188,7 @@ impl Fields {
             rotational_temperature: (0..m)
                 .map(|c| inertia * pooled(sq_w[c], count[c]))
                 .collect(),
-            count,
+            count: count.iter().map(|&n| n as u32).collect(),
         }
     }
 
@@ -225,6 +207,58 @@ impl Fields {
             .iter()
             .map(|&c| cell * c as f64 / depth as f64)
             .collect()
+    }
+}
+
+/// Velocity and angular-velocity moments of the particles in each cell, for any assignment
+/// of particles to cells (the grid cells of [`Fields`], the fluctuation cells of profiles).
+pub struct CellMoments {
+    /// N_k, particles in cell k
+    pub count: Vec<u64>,
+    /// sum of c over cell k
+    pub sum_velocity: Vec<[f64; 3]>,
+    /// sum of w over cell k
+    pub sum_spin: Vec<[f64; 3]>,
+    /// <c>_k (0 in an empty cell)
+    pub mean_velocity: Vec<[f64; 3]>,
+    /// sum over cell k of |c - <c>_k|^2
+    pub fluctuation_c2: Vec<f64>,
+    /// sum over cell k of |w - <w>_k|^2
+    pub fluctuation_w2: Vec<f64>,
+}
+
+impl CellMoments {
+    /// Moments over `cells` cells; `cell_of[p]` is the cell of particle p.
+    pub fn compute(snapshot: &Snapshot, cell_of: &[usize], cells: usize) -> CellMoments {
+        let mut count = vec![0u64; cells];
+        let mut sum_velocity = vec![[0.0; 3]; cells];
+        let mut sum_spin = vec![[0.0; 3]; cells];
+        for (p, &k) in cell_of.iter().enumerate() {
+            count[k] += 1;
+            for a in 0..3 {
+                sum_velocity[k][a] += snapshot.velocities[p][a];
+                sum_spin[k][a] += snapshot.angular_velocities[p][a];
+            }
+        }
+        let mean = |s: &[f64; 3], n: u64| s.map(|v| v / n.max(1) as f64);
+        let mean_velocity: Vec<[f64; 3]> = (0..cells)
+            .map(|k| mean(&sum_velocity[k], count[k]))
+            .collect();
+        let mean_spin: Vec<[f64; 3]> = (0..cells).map(|k| mean(&sum_spin[k], count[k])).collect();
+        let mut fluctuation_c2 = vec![0.0; cells];
+        let mut fluctuation_w2 = vec![0.0; cells];
+        for (p, &k) in cell_of.iter().enumerate() {
+            fluctuation_c2[k] += dist2(snapshot.velocities[p], mean_velocity[k]);
+            fluctuation_w2[k] += dist2(snapshot.angular_velocities[p], mean_spin[k]);
+        }
+        CellMoments {
+            count,
+            sum_velocity,
+            sum_spin,
+            mean_velocity,
+            fluctuation_c2,
+            fluctuation_w2,
+        }
     }
 }
 

@@ -15,7 +15,7 @@
 //! The slip velocity is the mean of U_x in the two bins next to the walls (thesis 3.3); with
 //! bins narrower than d/2 these are the outermost bins that hold centres.
 
-use super::fields::{Grid, SPHERE_VOLUME, dist2};
+use super::fields::{CellMoments, Grid, SPHERE_VOLUME};
 use super::{ProfileRow, SnapshotRecord};
 use crate::engine::Snapshot;
 use serde::{Deserialize, Serialize};
@@ -60,29 +60,16 @@ pub fn bin_sums(snapshot: &Snapshot, grid: &Grid, bins: usize) -> Vec<BinSums> {
         (grid.index(0, r[0]) * bins + bin_of(r[1], width, bins)) * n3 + grid.index(2, r[2])
     };
     let idx: Vec<usize> = snapshot.positions.iter().map(|r| cell_of(*r)).collect();
-    let mut count = vec![0u64; cells];
-    let mut sc = vec![[0.0; 3]; cells];
-    let mut sw = vec![[0.0; 3]; cells];
-    for (p, &k) in idx.iter().enumerate() {
-        count[k] += 1;
-        for a in 0..3 {
-            sc[k][a] += snapshot.velocities[p][a];
-            sw[k][a] += snapshot.angular_velocities[p][a];
-        }
-    }
-    let mean = |s: [f64; 3], n: u64| s.map(|v| v / n.max(1) as f64);
+    let moments = CellMoments::compute(snapshot, &idx, cells);
     let mut out = vec![BinSums::default(); bins];
-    for (p, &k) in idx.iter().enumerate() {
-        let b = &mut out[(k / n3) % bins];
-        b.sum_fluct_c2 += dist2(snapshot.velocities[p], mean(sc[k], count[k]));
-        b.sum_fluct_w2 += dist2(snapshot.angular_velocities[p], mean(sw[k], count[k]));
-    }
     for k in 0..cells {
         let b = &mut out[(k / n3) % bins];
-        b.count += count[k];
-        b.sum_ux += sc[k][0];
-        b.sum_omega_z += sw[k][2];
-        b.dof += count[k].saturating_sub(1);
+        b.count += moments.count[k];
+        b.sum_ux += moments.sum_velocity[k][0];
+        b.sum_omega_z += moments.sum_spin[k][2];
+        b.sum_fluct_c2 += moments.fluctuation_c2[k];
+        b.sum_fluct_w2 += moments.fluctuation_w2[k];
+        b.dof += moments.count[k].saturating_sub(1);
     }
     out
 }
