@@ -7,7 +7,7 @@ use granflow::sweep::job::{JobParams, PARAMS, ParamDef, canonical_with, id_of_ca
 use granflow::sweep::{load_sweep, queue};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 const BIN: &str = env!("CARGO_BIN_EXE_granflow");
@@ -34,6 +34,22 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
 }
 
 /// 1-based line and column of the first occurrence of `needle` in `text`.
+/// Run the granflow binary with `args`.
+fn granflow(args: &[&str]) -> Output {
+    Command::new(BIN).args(args).output().unwrap()
+}
+
+/// Run the granflow binary with `args`; it must succeed (its stderr is shown if not).
+fn granflow_ok(args: &[&str]) -> Output {
+    let out = granflow(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 fn position_of(text: &str, needle: &str) -> (usize, usize) {
     let at = text.find(needle).expect("needle in text");
     let before = &text[..at];
@@ -229,17 +245,14 @@ fn malformed_override_is_rejected() {
     );
     let results = dir.join("results");
     for set in ["restitution=2", "no_such_key=1", "restitution"] {
-        let out = Command::new(BIN)
-            .args([
-                "run",
-                file.to_str().unwrap(),
-                "--results",
-                results.to_str().unwrap(),
-                "--set",
-                set,
-            ])
-            .output()
-            .unwrap();
+        let out = granflow(&[
+            "run",
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+            "--set",
+            set,
+        ]);
         assert_eq!(out.status.code(), Some(2), "--set {set}");
         assert!(
             String::from_utf8_lossy(&out.stderr).contains("--set"),
@@ -441,22 +454,14 @@ fn job_dirs(results: &Path) -> Vec<PathBuf> {
 }
 
 fn run_to_end(file: &Path, results: &Path, threads: &str) {
-    let out = Command::new(BIN)
-        .args([
-            "run",
-            file.to_str().unwrap(),
-            "--results",
-            results.to_str().unwrap(),
-            "--threads",
-            threads,
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    granflow_ok(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+        "--threads",
+        threads,
+    ]);
 }
 
 /// kill -9 a real `granflow run` midway, rerun it: complete tables, no job started twice,
@@ -645,37 +650,19 @@ fn two_runners_never_run_the_same_job() {
         );
     }
     // status and gather work from the results directory alone
-    let out = Command::new(BIN)
-        .args(["gather", results.join("proc").to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = Command::new(BIN)
-        .args(["status", results.join("proc").to_str().unwrap()])
-        .output()
-        .unwrap();
+    granflow_ok(&["gather", results.join("proc").to_str().unwrap()]);
+    let out = granflow(&["status", results.join("proc").to_str().unwrap()]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success() && text.contains("done 6"), "{text}");
     // an override reaching computed points: its own tables, the jobs reused (not rerun)
-    let out = Command::new(BIN)
-        .args([
-            "run",
-            file.to_str().unwrap(),
-            "--results",
-            results.to_str().unwrap(),
-        ])
-        .args(["--set", "restitution=0.9"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    granflow_ok(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+        "--set",
+        "restitution=0.9",
+    ]);
     let run_dir = results.join("proc/runs/restitution=0.9");
     let overridden = granflow::sweep::open_results(&run_dir).unwrap().0;
     assert_eq!(overridden.plan.len(), 3);
@@ -692,22 +679,14 @@ fn two_runners_never_run_the_same_job() {
     }
     // --job-range runs only its slice of the plan order
     let ranged = dir.join("ranged");
-    let out = Command::new(BIN)
-        .args([
-            "run",
-            file.to_str().unwrap(),
-            "--results",
-            ranged.to_str().unwrap(),
-            "--job-range",
-            "1:3",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    granflow_ok(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        ranged.to_str().unwrap(),
+        "--job-range",
+        "1:3",
+    ]);
     let sweep = load_sweep(&file, &[]).unwrap();
     for job in &sweep.plan {
         let done = ranged
@@ -740,16 +719,14 @@ fn failed_job_is_recorded_and_retried() {
     std::fs::create_dir_all(&bad).unwrap();
     std::fs::write(bad.join(queue::CHECKPOINT_FILE), b"not a checkpoint").unwrap();
     let run = |extra: &[&str]| {
-        Command::new(BIN)
-            .args([
-                "run",
-                file.to_str().unwrap(),
-                "--results",
-                results.to_str().unwrap(),
-            ])
-            .args(extra)
-            .output()
-            .unwrap()
+        let mut args = vec![
+            "run",
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        granflow(&args)
     };
     let out = run(&[]);
     assert_eq!(
@@ -764,10 +741,7 @@ fn failed_job_is_recorded_and_retried() {
     );
     let failure = std::fs::read_to_string(bad.join(queue::FAILED_FILE)).unwrap();
     assert!(failure.contains("checksum"), "{failure}");
-    let status = Command::new(BIN)
-        .args(["status", results.join("proc").to_str().unwrap()])
-        .output()
-        .unwrap();
+    let status = granflow(&["status", results.join("proc").to_str().unwrap()]);
     let text = String::from_utf8_lossy(&status.stdout);
     assert!(
         text.contains("failed 1") && text.contains("checksum"),
@@ -786,15 +760,12 @@ fn failed_job_is_recorded_and_retried() {
     assert!(bad.join(queue::RESULT_FILE).exists() && !bad.join(queue::FAILED_FILE).exists());
 
     // the phase diagram of the finished sweep: a strip over L/W, PNG and SVG, and bad axes
-    let out = Command::new(BIN)
-        .args([
-            "phase-diagram",
-            results.join("proc").to_str().unwrap(),
-            "--x",
-            "length_over_width",
-        ])
-        .output()
-        .unwrap();
+    let out = granflow(&[
+        "phase-diagram",
+        results.join("proc").to_str().unwrap(),
+        "--x",
+        "length_over_width",
+    ]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
@@ -810,14 +781,11 @@ fn failed_job_is_recorded_and_retried() {
         .find(|l| l.trim_start().starts_with("structure"))
         .unwrap();
     assert_eq!(row.split_whitespace().count(), 3, "{text}");
-    let out = Command::new(BIN)
-        .args([
-            "phase-diagram",
-            results.join("proc").to_str().unwrap(),
-            "--x",
-            "no_such",
-        ])
-        .output()
-        .unwrap();
+    let out = granflow(&[
+        "phase-diagram",
+        results.join("proc").to_str().unwrap(),
+        "--x",
+        "no_such",
+    ]);
     assert_eq!(out.status.code(), Some(2));
 }
