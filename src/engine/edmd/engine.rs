@@ -809,14 +809,15 @@ impl Engine for EdmdEngine {
             .iter()
             .map(|w| 0.5 * k_over_4 * dot(*w, *w))
             .sum();
+        let kinematics = self.by_id(&self.kin);
         Snapshot {
             time: self.now,
             collisions_per_particle: self.collisions_per_particle(),
             geometry: self.params.geometry,
             inertia_factor: self.params.inertia_factor,
             gravity: self.params.gravity,
-            positions: self.by_id(&self.kin).iter().map(|k| k.position).collect(),
-            velocities: self.by_id(&self.kin).iter().map(|k| k.velocity).collect(),
+            positions: kinematics.iter().map(|k| k.position).collect(),
+            velocities: kinematics.iter().map(|k| k.velocity).collect(),
             angular_velocities: self.by_id(&self.angular),
             counters: self.counters,
             translational_energy,
