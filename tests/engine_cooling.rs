@@ -1,12 +1,17 @@
 //! Oracle 3 (oracles.md): homogeneous cooling of rough and smooth inelastic spheres.
 //! - R/T tends to the Huthmann-Zippelius value h + sqrt(1 + h^2), h = (A - C)/(2B), within 3 %
 //!   for six (e, beta) pairs of the table, two with e = 1 and four inelastic rough ones;
+//! - for nearly smooth spheres (beta <= 0), where that Maxwellian closure is off by up to 7 %,
+//!   R/T agrees with a DSMC solution of the Boltzmann equation (no closure) within 2 %;
+//!   the DSMC itself reproduces Huthmann-Zippelius within 3 % where the closure holds;
 //! - smooth spheres follow Haff's law T = T0 / (1 + t/t0)^2, t0 = 6/((1 - e^2) omega(T0)),
 //!   within 3 %.
 //!
 //! Dilute (phi = 0.01) boxes a few mean free paths wide, so the homogeneous state holds
 //! (no clustering) over the times checked, as the theory assumes.
 
+use granflow::engine::dsmc::homogeneous::HomogeneousGas;
+use granflow::engine::edmd::collision::ContactLaw;
 use granflow::engine::edmd::{EdmdEngine, EdmdParams};
 use granflow::engine::{Engine, StopAt};
 
@@ -63,22 +68,92 @@ fn measured_ratio(e: f64, beta: f64, seed: u64) -> f64 {
     ratios.iter().sum::<f64>() / ratios.len() as f64
 }
 
+/// The same protocol solved by DSMC (Boltzmann equation, molecular chaos, no Maxwellian
+/// closure) for `n` spheres: mean R/T over collisions per particle 40..80.
+fn boltzmann_ratio(e: f64, beta: f64, n: usize, seed: u64) -> f64 {
+    let law = ContactLaw {
+        restitution: e,
+        roughness: beta,
+        inertia_factor: 0.4,
+    };
+    let mut gas = HomogeneousGas::new(n, law, seed);
+    gas.advance_to(40.0);
+    gas.renormalise();
+    let mut ratios = Vec::new();
+    for s in 1..=40 {
+        gas.advance_to(40.0 + s as f64);
+        let (t, r) = gas.temperatures();
+        ratios.push(r / t);
+        gas.renormalise();
+    }
+    ratios.iter().sum::<f64>() / ratios.len() as f64
+}
+
+/// Rough enough spheres (beta >= 0.5), where the Maxwellian closure of the theory holds.
+/// Nearly smooth spheres (beta <= 0) are checked against the Boltzmann equation instead
+/// (below): there the closure misses the non-Gaussian translation-rotation correlations
+/// (Vega Reyes, Santos & Kremer, PRE 89, 020202, 2014; Megias & Santos 2023) and DSMC, which
+/// has no closure, finds R/T up to 7 % below it.
+const ROUGH_CASES: [(f64, f64); 6] = [
+    (1.0, 0.5),
+    (1.0, 0.8),
+    (0.9, 0.5),
+    (0.9, 0.8),
+    (0.8, 0.5),
+    (0.5, 0.8),
+];
+
+#[test]
+fn dsmc_reference_matches_huthmann_zippelius_where_the_maxwellian_closure_holds() {
+    for (k, (e, beta)) in ROUGH_CASES.into_iter().enumerate() {
+        let mean = boltzmann_ratio(e, beta, 20_000, 40 + k as u64);
+        let expected = huthmann_zippelius_ratio(e, beta, 0.4);
+        eprintln!("DSMC e = {e}, beta = {beta}: R/T = {mean:.4}, Huthmann-Zippelius {expected:.4}");
+        assert!(
+            (mean / expected - 1.0).abs() < 0.03,
+            "DSMC e = {e}, beta = {beta}: R/T = {mean} vs {expected}"
+        );
+    }
+}
+
+/// Mean of `runs` independent runs (seeds `seed`, `seed + 1`, ...).
+fn mean_of_runs(runs: u64, seed: u64, run: impl Fn(u64) -> f64) -> f64 {
+    (seed..seed + runs).map(run).sum::<f64>() / runs as f64
+}
+
+#[test]
+fn nearly_smooth_spheres_follow_the_boltzmann_equation() {
+    // e = 1, beta = 0 is the table's R/T = 2/5 entry: DSMC of the Boltzmann equation finds
+    // 0.385 (N = 20 000), 4 % below the Maxwellian closure. Both methods run the same N = 2000:
+    // R/T carries a finite-N bias of about +1 % there (DSMC 0.389 at N = 2000; the engine at
+    // N = 4000, phi = 0.002 gives 0.385 like DSMC at N = 20 000), which then cancels.
+    // Tolerance 2 %: one engine run scatters by 0.85 % (8 seeds), one DSMC run by 1.1 %, so the
+    // difference of a 4-run and a 8-run mean has a standard error of 0.6 %: 2 % is 3 sigma;
+    // the closure's error here (4-7 % for beta = 0) is well outside it.
+    for (k, (e, beta)) in [(1.0, 0.0), (1.0, -0.5), (0.9, 0.0), (0.8, 0.0)]
+        .into_iter()
+        .enumerate()
+    {
+        let seed = 100 * (k as u64 + 1);
+        let engine = mean_of_runs(4, seed, |s| measured_ratio(e, beta, s));
+        let boltzmann = mean_of_runs(8, seed + 50, |s| boltzmann_ratio(e, beta, 2000, s));
+        let closure = huthmann_zippelius_ratio(e, beta, 0.4);
+        eprintln!(
+            "e = {e}, beta = {beta}: R/T = {engine:.4}, DSMC {boltzmann:.4}, \
+             Huthmann-Zippelius (Maxwellian) {closure:.4}"
+        );
+        assert!(
+            (engine / boltzmann - 1.0).abs() < 0.02,
+            "e = {e}, beta = {beta}: R/T = {engine} vs DSMC {boltzmann}"
+        );
+    }
+}
+
 #[test]
 fn rotational_to_translational_temperature_ratio_matches_huthmann_zippelius() {
     // T = m<c^2>/3, R = I<w^2>/3: with N particles, R/T = E_rot / E_trans.
-    // Elastic-normal rough cases (e = 1) and inelastic rough cases. Nearly smooth spheres
-    // (beta <= 0) are left out: there the Maxwellian closure of the theory misses the
-    // translation-rotation correlations (Kranz et al., EPJ ST 179, 91, 2009; Santos et al.,
-    // PRE 84, 2011) and the engine measures R/T 4-6 % below it (README, "Engine").
-    let cases = [
-        (1.0, 0.5),
-        (1.0, 0.8),
-        (0.9, 0.5),
-        (0.9, 0.8),
-        (0.8, 0.5),
-        (0.5, 0.8),
-    ];
-    for (k, (e, beta)) in cases.into_iter().enumerate() {
+    // Elastic-normal rough cases (e = 1) and inelastic rough cases.
+    for (k, (e, beta)) in ROUGH_CASES.into_iter().enumerate() {
         let mean = measured_ratio(e, beta, 20 + k as u64);
         let expected = huthmann_zippelius_ratio(e, beta, 0.4);
         eprintln!("e = {e}, beta = {beta}: R/T = {mean:.4}, Huthmann-Zippelius {expected:.4}");

@@ -4,6 +4,7 @@
 //! Units throughout: particle diameter d = 1, mass m = 1, gravity g = 1 (when switched on);
 //! time is measured in sqrt(d/g).
 
+pub mod dsmc;
 pub mod edmd;
 
 use serde::{Deserialize, Serialize};
