@@ -1,6 +1,8 @@
 //! Cell lists: the box divided into cells of side >= d, each holding the particles whose
 //! centres it contains, so that a particle's collision partners lie in its own and the 26
-//! adjacent cells. Members are stored in fixed-capacity slots (no allocation per event).
+//! adjacent cells. Each cell is a doubly linked list threaded through per-particle arrays
+//! (no allocation per event; 4 bytes per cell, so the heads of a neighbourhood share a few
+//! cache lines even at low density, where most cells are empty).
 //!
 //! Along a wall axis (y in the channel) the cells cover only the reachable centre positions
 //! [a, W - a]: leaving an edge cell through its outer face is a wall collision.
@@ -69,40 +71,59 @@ impl AxisCells {
     }
 }
 
+/// End of a cell's list.
+const EMPTY: u32 = u32::MAX;
+
 /// Cell membership of all particles.
 #[derive(Clone, Debug)]
 pub struct CellGrid {
     pub axes: [AxisCells; 3],
-    capacity: usize,
-    /// members of cell c in members[c * capacity .. c * capacity + fill[c]]
-    members: Vec<u32>,
-    fill: Vec<u32>,
-    /// cell and slot of each particle
+    /// first particle of each cell, or EMPTY
+    head: Vec<u32>,
+    /// next particle in the same cell, or EMPTY
+    next: Vec<u32>,
+    /// previous particle in the same cell, or EMPTY (removal in O(1))
+    prev: Vec<u32>,
+    /// flat cell of each particle (u32::MAX: in none)
     cell_of_particle: Vec<u32>,
-    slot_of_particle: Vec<u32>,
+}
+
+/// The particles of one cell, in list order.
+pub struct CellMembers<'a> {
+    next: &'a [u32],
+    current: u32,
+}
+
+impl Iterator for CellMembers<'_> {
+    type Item = u32;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<u32> {
+        if self.current == EMPTY {
+            return None;
+        }
+        let id = self.current;
+        self.current = self.next[id as usize];
+        Some(id)
+    }
 }
 
 impl CellGrid {
     /// An empty grid for `particles` particles.
     pub fn new(axes: [AxisCells; 3], particles: usize) -> Self {
         let cells = axes.iter().map(|a| a.count).product::<usize>();
-        // no more centres fit in a cell than spheres of radius 1/2 in a box one diameter larger
-        // at the densest packing (0.7405); the margin covers round-off at the faces
-        let box_volume: f64 = axes.iter().map(|a| a.side + 1.0).product();
-        let capacity = (0.7405 * box_volume / (std::f64::consts::PI / 6.0)).ceil() as usize + 2;
         CellGrid {
             axes,
-            capacity,
-            members: vec![0; cells * capacity],
-            fill: vec![0; cells],
+            head: vec![EMPTY; cells],
+            next: vec![EMPTY; particles],
+            prev: vec![EMPTY; particles],
             cell_of_particle: vec![u32::MAX; particles],
-            slot_of_particle: vec![0; particles],
         }
     }
 
     /// Number of cells.
     pub fn cell_count(&self) -> usize {
-        self.fill.len()
+        self.head.len()
     }
 
     /// Flat index of cell (cx, cy, cz).
@@ -134,34 +155,39 @@ impl CellGrid {
         self.cell_of_particle[id as usize] as usize
     }
 
-    /// Particles in flat cell `cell`.
+    /// Particles in flat cell `cell` (the most recently inserted first).
     #[inline(always)]
-    pub fn members(&self, cell: usize) -> &[u32] {
-        let start = cell * self.capacity;
-        &self.members[start..start + self.fill[cell] as usize]
+    pub fn members(&self, cell: usize) -> CellMembers<'_> {
+        CellMembers {
+            next: &self.next,
+            current: self.head[cell],
+        }
     }
 
-    /// Put particle `id` into flat cell `cell`.
+    /// Put particle `id` (in no cell) at the front of flat cell `cell`.
     pub fn insert(&mut self, id: u32, cell: usize) {
-        if self.fill[cell] as usize == self.capacity {
-            self.grow();
+        let first = self.head[cell];
+        self.next[id as usize] = first;
+        self.prev[id as usize] = EMPTY;
+        if first != EMPTY {
+            self.prev[first as usize] = id;
         }
-        let slot = self.fill[cell];
-        self.members[cell * self.capacity + slot as usize] = id;
-        self.fill[cell] += 1;
+        self.head[cell] = id;
         self.cell_of_particle[id as usize] = cell as u32;
-        self.slot_of_particle[id as usize] = slot;
     }
 
     /// Take particle `id` out of its cell.
     pub fn remove(&mut self, id: u32) {
         let cell = self.cell_of_particle[id as usize] as usize;
-        let slot = self.slot_of_particle[id as usize] as usize;
-        let last = self.fill[cell] as usize - 1;
-        let moved = self.members[cell * self.capacity + last];
-        self.members[cell * self.capacity + slot] = moved;
-        self.slot_of_particle[moved as usize] = slot as u32;
-        self.fill[cell] -= 1;
+        let (before, after) = (self.prev[id as usize], self.next[id as usize]);
+        if before == EMPTY {
+            self.head[cell] = after;
+        } else {
+            self.next[before as usize] = after;
+        }
+        if after != EMPTY {
+            self.prev[after as usize] = before;
+        }
         self.cell_of_particle[id as usize] = u32::MAX;
     }
 
@@ -172,20 +198,57 @@ impl CellGrid {
         self.insert(id, cell);
     }
 
-    /// Double the slots per cell (only if round-off ever packs more centres than expected).
-    fn grow(&mut self) {
-        let new_capacity = self.capacity * 2;
-        let mut members = vec![0; self.fill.len() * new_capacity];
-        for (cell, &fill) in self.fill.iter().enumerate() {
-            let old = &self.members[cell * self.capacity..cell * self.capacity + fill as usize];
-            members[cell * new_capacity..cell * new_capacity + fill as usize].copy_from_slice(old);
-        }
-        self.members = members;
-        self.capacity = new_capacity;
-    }
-
     /// Memory used, in bytes.
     pub fn bytes(&self) -> usize {
-        4 * (self.members.len() + self.fill.len() + 2 * self.cell_of_particle.len())
+        4 * (self.head.len() + 3 * self.next.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_pcg::Pcg64;
+
+    /// The linked lists hold exactly what a plain vector of member lists holds, through a
+    /// random sequence of inserts, moves and removals.
+    #[test]
+    fn linked_cells_agree_with_plain_member_lists() {
+        let axis = AxisCells::new(0.0, 4.0, 4.0, true, 1.0);
+        let mut grid = CellGrid::new([axis; 3], 200);
+        let cells = grid.cell_count();
+        let mut reference: Vec<Vec<u32>> = vec![Vec::new(); cells];
+        let mut located: Vec<Option<usize>> = vec![None; 200];
+        let mut rng = Pcg64::seed_from_u64(5);
+        for _ in 0..20_000 {
+            let id = rng.random_range(0..200u32);
+            let cell = rng.random_range(0..cells);
+            match located[id as usize] {
+                None => {
+                    grid.insert(id, cell);
+                    reference[cell].push(id);
+                    located[id as usize] = Some(cell);
+                }
+                Some(old) => {
+                    reference[old].retain(|&m| m != id);
+                    if rng.random::<f64>() < 0.3 {
+                        grid.remove(id);
+                        located[id as usize] = None;
+                    } else {
+                        grid.relocate(id, cell);
+                        reference[cell].push(id);
+                        located[id as usize] = Some(cell);
+                        assert_eq!(grid.cell_of(id), cell);
+                    }
+                }
+            }
+            for c in [cell, rng.random_range(0..cells)] {
+                let mut got: Vec<u32> = grid.members(c).collect();
+                let mut want = reference[c].clone();
+                got.sort_unstable();
+                want.sort_unstable();
+                assert_eq!(got, want, "cell {c}");
+            }
+        }
     }
 }

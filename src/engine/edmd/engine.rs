@@ -287,7 +287,8 @@ impl EdmdEngine {
         self.angular = order.iter().map(|&s| self.angular[s]).collect();
         self.last_collision = order.iter().map(|&s| self.last_collision[s]).collect();
         self.ids = order.iter().map(|&s| self.ids[s]).collect();
-        for (slot, &s) in order.iter().enumerate() {
+        // inserted last to first, so that each cell lists its particles in storage order
+        for (slot, &s) in order.iter().enumerate().rev() {
             self.cells.insert(slot as u32, cell_of[s]);
         }
         // the grid drifts with the mean flow along gravity (U = <c_x>); none without gravity
@@ -464,7 +465,7 @@ impl EdmdEngine {
             for &(cy, sy) in layers[1].iter().flatten() {
                 for &(cx, sx) in layers[0].iter().flatten() {
                     let ncell = self.cells.index([cx, cy, cz]);
-                    for &j in self.cells.members(ncell) {
+                    for j in self.cells.members(ncell) {
                         if j as usize == i {
                             continue;
                         }
