@@ -76,6 +76,63 @@ impl PairCandidate {
     };
 }
 
+/// Partners of a neighbour search collected before they are tested (see `scan_cells`).
+struct PartnerBatch {
+    ids: [u32; PartnerBatch::CAPACITY],
+    /// periodic shift to add to each partner's position
+    shifts: [[f64; 3]; PartnerBatch::CAPACITY],
+    len: usize,
+}
+
+impl PartnerBatch {
+    const CAPACITY: usize = 32;
+
+    #[inline(always)]
+    fn new() -> Self {
+        PartnerBatch {
+            ids: [0; Self::CAPACITY],
+            shifts: [[0.0; 3]; Self::CAPACITY],
+            len: 0,
+        }
+    }
+
+    /// Add a partner; true when the batch is full.
+    #[inline(always)]
+    fn push(&mut self, id: u32, shift: [f64; 3]) -> bool {
+        self.ids[self.len] = id;
+        self.shifts[self.len] = shift;
+        self.len += 1;
+        self.len == Self::CAPACITY
+    }
+
+    #[inline(always)]
+    fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    #[inline(always)]
+    fn partners(&self) -> impl Iterator<Item = (&u32, &[f64; 3])> {
+        self.ids[..self.len].iter().zip(&self.shifts[..self.len])
+    }
+}
+
+/// Ask the CPU to start loading `record` into cache (no effect where unsupported).
+#[inline(always)]
+fn prefetch<T>(record: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: prefetching is a hint; it never faults, whatever the address, and SSE is
+        // part of the x86_64 baseline.
+        #[allow(unused_unsafe)]
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>((record as *const T).cast::<i8>())
+        };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = record;
+}
+
 /// A physical event as processed (for tests that compare engines event by event).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PhysicalEvent {
@@ -451,16 +508,18 @@ impl EdmdEngine {
 
     /// Earliest collision of particle `i` (at `now`) before `horizon` with a sphere in the
     /// cells given per axis as (cell, periodic shift) options: `layers[axis][k]`.
+    ///
+    /// The cell lists are walked first, collecting partners in batches and prefetching their
+    /// records, so that the cache misses on the partners overlap instead of following each other.
     fn scan_cells(
         &self,
         i: usize,
         layers: &[[Option<(usize, f64)>; 3]; 3],
         horizon: f64,
     ) -> PairCandidate {
-        let me = &self.kin[i];
-        let g = self.params.gravity;
         let mut best = PairCandidate::NONE;
         let mut best_dt = horizon - self.now;
+        let mut batch = PartnerBatch::new();
         for &(cz, sz) in layers[2].iter().flatten() {
             for &(cy, sy) in layers[1].iter().flatten() {
                 for &(cx, sx) in layers[0].iter().flatten() {
@@ -469,33 +528,54 @@ impl EdmdEngine {
                         if j as usize == i {
                             continue;
                         }
-                        let other = &self.kin[j as usize];
-                        // partner brought to `now` on the fly (its stored state is not touched)
-                        let (rj, cj) =
-                            fly(other.position, other.velocity, g, self.now - other.time);
-                        let r = [
-                            me.position[0] - (rj[0] + sx),
-                            me.position[1] - (rj[1] + sy),
-                            me.position[2] - (rj[2] + sz),
-                        ];
-                        let v = [
-                            me.velocity[0] - cj[0],
-                            me.velocity[1] - cj[1],
-                            me.velocity[2] - cj[2],
-                        ];
-                        if let Some(dt) = pair_contact_time_before(r, v, best_dt) {
-                            best_dt = dt;
-                            best = PairCandidate {
-                                time: self.now + dt,
-                                partner: j,
-                                partner_collisions: other.collisions,
-                            };
+                        prefetch(&self.kin[j as usize]);
+                        if batch.push(j, [sx, sy, sz]) {
+                            self.earliest_in_batch(i, &batch, &mut best, &mut best_dt);
+                            batch.clear();
                         }
                     }
                 }
             }
         }
+        self.earliest_in_batch(i, &batch, &mut best, &mut best_dt);
         best
+    }
+
+    /// Update `best` (contact before `now + best_dt`) with the partners of particle `i` in
+    /// `batch`.
+    #[inline(always)]
+    fn earliest_in_batch(
+        &self,
+        i: usize,
+        batch: &PartnerBatch,
+        best: &mut PairCandidate,
+        best_dt: &mut f64,
+    ) {
+        let me = &self.kin[i];
+        let g = self.params.gravity;
+        for (&j, shift) in batch.partners() {
+            let other = &self.kin[j as usize];
+            // partner brought to `now` on the fly (its stored state is not touched)
+            let (rj, cj) = fly(other.position, other.velocity, g, self.now - other.time);
+            let r = [
+                me.position[0] - (rj[0] + shift[0]),
+                me.position[1] - (rj[1] + shift[1]),
+                me.position[2] - (rj[2] + shift[2]),
+            ];
+            let v = [
+                me.velocity[0] - cj[0],
+                me.velocity[1] - cj[1],
+                me.velocity[2] - cj[2],
+            ];
+            if let Some(dt) = pair_contact_time_before(r, v, *best_dt) {
+                *best_dt = dt;
+                *best = PairCandidate {
+                    time: self.now + dt,
+                    partner: j,
+                    partner_collisions: other.collisions,
+                };
+            }
+        }
     }
 
     /// Predict and schedule the next event of particle `i`.
