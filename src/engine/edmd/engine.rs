@@ -600,6 +600,14 @@ impl EdmdEngine {
             return false;
         };
         let i = id as usize;
+        // the following event is most likely the queue's next one: start loading its records
+        // now, so that they are in cache when it is processed
+        if let Some((_, next)) = self.queue.peek() {
+            let next = next as usize;
+            prefetch(&self.kin[next]);
+            prefetch(&self.event[next]);
+            prefetch(&self.candidate[next]);
+        }
         self.now = t;
         self.counters.events += 1;
         if self.counters.events == self.next_rebuild {
