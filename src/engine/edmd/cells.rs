@@ -164,6 +164,12 @@ impl CellGrid {
         }
     }
 
+    /// Where the list of flat cell `cell` starts (for prefetching).
+    #[inline(always)]
+    pub fn head(&self, cell: usize) -> &u32 {
+        &self.head[cell]
+    }
+
     /// Put particle `id` (in no cell) at the front of flat cell `cell`.
     pub fn insert(&mut self, id: u32, cell: usize) {
         let first = self.head[cell];

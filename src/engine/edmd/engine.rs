@@ -509,8 +509,9 @@ impl EdmdEngine {
     /// Earliest collision of particle `i` (at `now`) before `horizon` with a sphere in the
     /// cells given per axis as (cell, periodic shift) options: `layers[axis][k]`.
     ///
-    /// The cell lists are walked first, collecting partners in batches and prefetching their
-    /// records, so that the cache misses on the partners overlap instead of following each other.
+    /// The cell lists are walked first (their heads prefetched), collecting partners in batches
+    /// and prefetching their records, so that cache misses overlap instead of following each
+    /// other.
     fn scan_cells(
         &self,
         i: usize,
@@ -520,6 +521,13 @@ impl EdmdEngine {
         let mut best = PairCandidate::NONE;
         let mut best_dt = horizon - self.now;
         let mut batch = PartnerBatch::new();
+        for &(cz, _) in layers[2].iter().flatten() {
+            for &(cy, _) in layers[1].iter().flatten() {
+                for &(cx, _) in layers[0].iter().flatten() {
+                    prefetch(self.cells.head(self.cells.index([cx, cy, cz])));
+                }
+            }
+        }
         for &(cz, sz) in layers[2].iter().flatten() {
             for &(cy, sy) in layers[1].iter().flatten() {
                 for &(cx, sx) in layers[0].iter().flatten() {
