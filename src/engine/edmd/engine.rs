@@ -76,6 +76,23 @@ impl PairCandidate {
     };
 }
 
+/// What a particle will do next and the best pair found by its last full neighbour search.
+#[derive(Clone, Copy, Debug)]
+struct Plan {
+    /// the scheduled event
+    event: EventKind,
+    /// earliest pair collision of the last full neighbour search (kept while the particle
+    /// only crosses cells)
+    candidate: PairCandidate,
+}
+
+impl Plan {
+    const NONE: Plan = Plan {
+        event: EventKind::None,
+        candidate: PairCandidate::NONE,
+    };
+}
+
 /// Partners of a neighbour search collected before they are tested (see `scan_cells`).
 struct PartnerBatch {
     ids: [u32; PartnerBatch::CAPACITY],
@@ -164,9 +181,8 @@ pub struct EdmdEngine {
     angular: Vec<[f64; 3]>,
     /// time of each particle's last collision (pair or wall), for the TC model
     last_collision: Vec<f64>,
-    event: Vec<EventKind>,
-    /// earliest pair collision of each particle's last full neighbour search
-    candidate: Vec<PairCandidate>,
+    /// scheduled event and pair candidate of each particle (one record: one cache miss)
+    plan: Vec<Plan>,
     queue: CalendarQueue,
     cells: CellGrid,
     /// U, velocity along x of the cell grid: the grid drifts with the mean flow so that the
@@ -261,8 +277,7 @@ impl EdmdEngine {
             ids: (0..n as u32).collect(),
             angular: state.angular_velocities,
             last_collision: state.last_collision,
-            event: vec![EventKind::None; n],
-            candidate: vec![PairCandidate::NONE; n],
+            plan: vec![Plan::NONE; n],
             queue: CalendarQueue::new(n, 1, 1.0, state.now),
             cells: CellGrid::new(axes, n),
             grid_drift: 0.0,
@@ -406,7 +421,7 @@ impl EdmdEngine {
                 layers[a][k] = self.cells.axes[a].neighbour(coords[a], dc);
             }
         }
-        self.candidate[i] = self.scan_cells(i, &layers, f64::INFINITY);
+        self.plan[i].candidate = self.scan_cells(i, &layers, f64::INFINITY);
         self.choose_event(i)
     }
 
@@ -414,7 +429,7 @@ impl EdmdEngine {
     /// is unchanged, so the pair candidate of its last full search still holds if the partner
     /// has not collided since; only the layer of cells that just became adjacent is searched.
     fn predict_after_crossing(&mut self, i: usize, axis: usize, upper: bool) -> f64 {
-        let candidate = self.candidate[i];
+        let candidate = self.plan[i].candidate;
         let still_valid = match candidate.partner {
             NO_PARTNER => true,
             j => self.kin[j as usize].collisions == candidate.partner_collisions,
@@ -435,7 +450,7 @@ impl EdmdEngine {
         }
         let found = self.scan_cells(i, &layers, candidate.time);
         if found.time < candidate.time {
-            self.candidate[i] = found;
+            self.plan[i].candidate = found;
         }
         self.choose_event(i)
     }
@@ -444,7 +459,7 @@ impl EdmdEngine {
     /// its event, time returned.
     fn choose_event(&mut self, i: usize) -> f64 {
         let (exit_time, exit_kind) = self.exit_event(i);
-        let candidate = self.candidate[i];
+        let candidate = self.plan[i].candidate;
         let (time, kind) = if candidate.time <= exit_time && candidate.partner != NO_PARTNER {
             (
                 candidate.time,
@@ -456,7 +471,7 @@ impl EdmdEngine {
         } else {
             (exit_time, exit_kind)
         };
-        self.event[i] = kind;
+        self.plan[i].event = kind;
         time
     }
 
@@ -613,8 +628,7 @@ impl EdmdEngine {
         if let Some((_, next)) = self.queue.peek() {
             let next = next as usize;
             prefetch(&self.kin[next]);
-            prefetch(&self.event[next]);
-            prefetch(&self.candidate[next]);
+            prefetch(&self.plan[next]);
         }
         self.now = t;
         self.counters.events += 1;
@@ -625,7 +639,7 @@ impl EdmdEngine {
         }
         self.synchronised = false;
         self.advance_particle(i, t);
-        match self.event[i] {
+        match self.plan[i].event {
             EventKind::Pair {
                 partner,
                 partner_collisions,
