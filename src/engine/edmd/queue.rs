@@ -76,22 +76,40 @@ const IN_HEAP: u32 = u32::MAX - 1;
 const IN_OVERFLOW: u32 = u32::MAX - 2;
 const NIL: u32 = u32::MAX;
 
+/// A particle's entry in the calendar queue.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    /// event time
+    time: f64,
+    /// where the event is: NOWHERE, IN_HEAP, IN_OVERFLOW or a bucket slot
+    place: u32,
+    /// list links (buckets and overflow)
+    next: u32,
+    prev: u32,
+    /// position in the heap (while IN_HEAP)
+    heap_index: u32,
+}
+
+impl Node {
+    const EMPTY: Node = Node {
+        time: f64::INFINITY,
+        place: NOWHERE,
+        next: NIL,
+        prev: NIL,
+        heap_index: 0,
+    };
+}
+
 /// The O(1) calendar queue (see the module docs).
 #[derive(Clone, Debug)]
 pub struct CalendarQueue {
-    /// event time of each particle
-    time: Vec<f64>,
-    /// where each particle's event is: NOWHERE, IN_HEAP, IN_OVERFLOW or a bucket slot
-    place: Vec<u32>,
-    /// list links (buckets and overflow), by particle
-    next: Vec<u32>,
-    prev: Vec<u32>,
+    /// each particle's entry (one record, so that scheduling touches one cache line)
+    node: Vec<Node>,
     /// first particle of each bucket's list
     bucket_head: Vec<u32>,
     overflow_head: u32,
     /// binary heap of the current bucket, by particle; `heap_index` is each one's position
     heap: Vec<u32>,
-    heap_index: Vec<u32>,
     /// bucket width (time)
     width: f64,
     /// absolute index (floor(t / width)) of the bucket whose events are in the heap
@@ -109,14 +127,10 @@ impl CalendarQueue {
         assert!(buckets > 0 && width > 0.0 && width.is_finite());
         let current = (now / width).floor() as i64;
         CalendarQueue {
-            time: vec![f64::INFINITY; particles],
-            place: vec![NOWHERE; particles],
-            next: vec![NIL; particles],
-            prev: vec![NIL; particles],
+            node: vec![Node::EMPTY; particles],
             bucket_head: vec![NIL; buckets],
             overflow_head: NIL,
             heap: Vec::with_capacity(64),
-            heap_index: vec![0; particles],
             width,
             current,
             year_start: current,
@@ -142,12 +156,12 @@ impl CalendarQueue {
 
     #[inline(always)]
     fn earlier(&self, a: u32, b: u32) -> bool {
-        let (ta, tb) = (self.time[a as usize], self.time[b as usize]);
+        let (ta, tb) = (self.node[a as usize].time, self.node[b as usize].time);
         ta < tb || (ta == tb && a < b)
     }
 
     fn place_event(&mut self, id: u32) {
-        let abs = self.bucket_of(self.time[id as usize]);
+        let abs = self.bucket_of(self.node[id as usize].time);
         if abs <= self.current {
             self.heap_push(id);
         } else if abs < self.year_start + self.bucket_head.len() as i64 {
@@ -155,34 +169,34 @@ impl CalendarQueue {
             let head = self.bucket_head[slot as usize];
             self.link_front(id, head);
             self.bucket_head[slot as usize] = id;
-            self.place[id as usize] = slot;
+            self.node[id as usize].place = slot;
             self.in_buckets += 1;
         } else {
             let head = self.overflow_head;
             self.link_front(id, head);
             self.overflow_head = id;
-            self.place[id as usize] = IN_OVERFLOW;
+            self.node[id as usize].place = IN_OVERFLOW;
         }
     }
 
     #[inline(always)]
     fn link_front(&mut self, id: u32, head: u32) {
-        self.prev[id as usize] = NIL;
-        self.next[id as usize] = head;
+        self.node[id as usize].prev = NIL;
+        self.node[id as usize].next = head;
         if head != NIL {
-            self.prev[head as usize] = id;
+            self.node[head as usize].prev = id;
         }
     }
 
     fn unlink(&mut self, id: u32) {
-        let (p, n) = (self.prev[id as usize], self.next[id as usize]);
+        let (p, n) = (self.node[id as usize].prev, self.node[id as usize].next);
         if n != NIL {
-            self.prev[n as usize] = p;
+            self.node[n as usize].prev = p;
         }
         if p != NIL {
-            self.next[p as usize] = n;
+            self.node[p as usize].next = n;
         } else {
-            match self.place[id as usize] {
+            match self.node[id as usize].place {
                 IN_OVERFLOW => self.overflow_head = n,
                 slot => self.bucket_head[slot as usize] = n,
             }
@@ -190,7 +204,7 @@ impl CalendarQueue {
     }
 
     fn heap_push(&mut self, id: u32) {
-        self.place[id as usize] = IN_HEAP;
+        self.node[id as usize].place = IN_HEAP;
         self.heap.push(id);
         self.sift_up(self.heap.len() - 1);
     }
@@ -199,9 +213,9 @@ impl CalendarQueue {
         let last = self.heap.pop().expect("heap not empty");
         if pos < self.heap.len() {
             self.heap[pos] = last;
-            self.heap_index[last as usize] = pos as u32;
+            self.node[last as usize].heap_index = pos as u32;
             self.sift_up(pos);
-            self.sift_down(self.heap_index[last as usize] as usize);
+            self.sift_down(self.node[last as usize].heap_index as usize);
         }
     }
 
@@ -214,11 +228,11 @@ impl CalendarQueue {
                 break;
             }
             self.heap[pos] = p;
-            self.heap_index[p as usize] = pos as u32;
+            self.node[p as usize].heap_index = pos as u32;
             pos = parent;
         }
         self.heap[pos] = id;
-        self.heap_index[id as usize] = pos as u32;
+        self.node[id as usize].heap_index = pos as u32;
     }
 
     fn sift_down(&mut self, mut pos: usize) {
@@ -240,11 +254,11 @@ impl CalendarQueue {
                 break;
             }
             self.heap[pos] = c;
-            self.heap_index[c as usize] = pos as u32;
+            self.node[c as usize].heap_index = pos as u32;
             pos = child;
         }
         self.heap[pos] = id;
-        self.heap_index[id as usize] = pos as u32;
+        self.node[id as usize].heap_index = pos as u32;
     }
 
     /// Move on to the next bucket until the heap holds the earliest events.
@@ -256,8 +270,8 @@ impl CalendarQueue {
                 let mut earliest = i64::MAX;
                 let mut id = self.overflow_head;
                 while id != NIL {
-                    earliest = earliest.min(self.bucket_of(self.time[id as usize]));
-                    id = self.next[id as usize];
+                    earliest = earliest.min(self.bucket_of(self.node[id as usize].time));
+                    id = self.node[id as usize].next;
                 }
                 self.current = earliest - 1;
                 self.year_start = earliest;
@@ -271,7 +285,7 @@ impl CalendarQueue {
             let slot = self.current.rem_euclid(buckets) as usize;
             let mut id = std::mem::replace(&mut self.bucket_head[slot], NIL);
             while id != NIL {
-                let next = self.next[id as usize];
+                let next = self.node[id as usize].next;
                 self.in_buckets -= 1;
                 self.heap_push(id);
                 id = next;
@@ -283,7 +297,7 @@ impl CalendarQueue {
     fn redistribute_overflow(&mut self) {
         let mut id = std::mem::replace(&mut self.overflow_head, NIL);
         while id != NIL {
-            let next = self.next[id as usize];
+            let next = self.node[id as usize].next;
             self.place_event(id);
             id = next;
         }
@@ -294,37 +308,39 @@ impl EventQueue for CalendarQueue {
     fn schedule(&mut self, id: u32, time: f64) {
         debug_assert!(time >= 0.0 && time.is_finite());
         self.cancel(id);
-        self.time[id as usize] = time;
+        self.node[id as usize].time = time;
         self.len += 1;
         self.place_event(id);
     }
 
     fn cancel(&mut self, id: u32) {
-        match self.place[id as usize] {
+        match self.node[id as usize].place {
             NOWHERE => return,
-            IN_HEAP => self.heap_remove(self.heap_index[id as usize] as usize),
+            IN_HEAP => self.heap_remove(self.node[id as usize].heap_index as usize),
             IN_OVERFLOW => self.unlink(id),
             _ => {
                 self.unlink(id);
                 self.in_buckets -= 1;
             }
         }
-        self.place[id as usize] = NOWHERE;
+        self.node[id as usize].place = NOWHERE;
         self.len -= 1;
     }
 
     fn peek(&mut self) -> Option<(f64, u32)> {
         self.refill_heap();
-        self.heap.first().map(|&id| (self.time[id as usize], id))
+        self.heap
+            .first()
+            .map(|&id| (self.node[id as usize].time, id))
     }
 
     fn pop(&mut self) -> Option<(f64, u32)> {
         self.refill_heap();
         let id = *self.heap.first()?;
         self.heap_remove(0);
-        self.place[id as usize] = NOWHERE;
+        self.node[id as usize].place = NOWHERE;
         self.len -= 1;
-        Some((self.time[id as usize], id))
+        Some((self.node[id as usize].time, id))
     }
 
     fn len(&self) -> usize {
