@@ -316,8 +316,7 @@ impl EdmdEngine {
         let per = std::mem::size_of::<Kinematics>()
             + std::mem::size_of::<[f64; 3]>()
             + std::mem::size_of::<f64>()
-            + std::mem::size_of::<EventKind>()
-            + std::mem::size_of::<PairCandidate>()
+            + std::mem::size_of::<Plan>()
             + std::mem::size_of::<u32>()
             + self.queue.bytes_per_particle();
         (per * n + self.cells.bytes()) as f64 / n as f64

@@ -146,7 +146,8 @@ impl CalendarQueue {
 
     /// Memory per particle, in bytes, assuming one bucket per particle.
     pub fn bytes_per_particle(&self) -> usize {
-        8 + 4 * 6
+        // a node, a bucket head, and (rarely more than a few) heap slots
+        std::mem::size_of::<Node>() + 4
     }
 
     #[inline(always)]
