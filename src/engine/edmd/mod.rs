@@ -3,7 +3,8 @@
 //!
 //! - [`collision`]: the pure collision rules (what happens).
 //! - [`motion`]: free flight under gravity and meeting times (when it happens).
-//! - [`cells`], [`queue`]: the fast data structures (with a reference queue for tests).
+//! - [`cells`], [`queue`]: the fast data structures (with a reference queue for tests);
+//!   `search`: partner batches and prefetching for the neighbour search.
 //! - [`setup`]: placement and initial velocities; [`checkpoint`]: the file format.
 //! - [`EdmdEngine`]: the event loop; [`reference`]: a slow all-pairs engine for tests.
 
@@ -15,6 +16,7 @@ pub mod motion;
 mod params;
 pub mod queue;
 pub mod reference;
+mod search;
 pub mod setup;
 
 pub use engine::{EdmdEngine, PhysicalEvent};
