@@ -50,6 +50,18 @@ fn granflow_ok(args: &[&str]) -> Output {
     out
 }
 
+/// Arguments of `granflow run FILE --results RESULTS` followed by `extra`.
+fn run_args<'a>(file: &'a Path, results: &'a Path, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    args
+}
+
 fn position_of(text: &str, needle: &str) -> (usize, usize) {
     let at = text.find(needle).expect("needle in text");
     let before = &text[..at];
@@ -65,13 +77,7 @@ fn assert_rejected(case: &str, text: &str, needle: &str, expect: &[&str]) {
     let dir = scratch(&format!("bad-{case}"));
     let file = write(&dir, "bad.ron", text);
     let results = dir.join("results");
-    let out = Command::new(BIN)
-        .arg("run")
-        .arg(&file)
-        .arg("--results")
-        .arg(&results)
-        .output()
-        .unwrap();
+    let out = granflow(&run_args(&file, &results, &[]));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(
         out.status.code(),
@@ -245,14 +251,7 @@ fn malformed_override_is_rejected() {
     );
     let results = dir.join("results");
     for set in ["restitution=2", "no_such_key=1", "restitution"] {
-        let out = granflow(&[
-            "run",
-            file.to_str().unwrap(),
-            "--results",
-            results.to_str().unwrap(),
-            "--set",
-            set,
-        ]);
+        let out = granflow(&run_args(&file, &results, &["--set", set]));
         assert_eq!(out.status.code(), Some(2), "--set {set}");
         assert!(
             String::from_utf8_lossy(&out.stderr).contains("--set"),
@@ -454,14 +453,7 @@ fn job_dirs(results: &Path) -> Vec<PathBuf> {
 }
 
 fn run_to_end(file: &Path, results: &Path, threads: &str) {
-    granflow_ok(&[
-        "run",
-        file.to_str().unwrap(),
-        "--results",
-        results.to_str().unwrap(),
-        "--threads",
-        threads,
-    ]);
+    granflow_ok(&run_args(&file, &results, &["--threads", threads]));
 }
 
 /// kill -9 a real `granflow run` midway, rerun it: complete tables, no job started twice,
@@ -472,14 +464,7 @@ fn kill_and_rerun_completes_without_rerunning_jobs() {
     let file = subprocess_sweep(&dir);
     let results = dir.join("results");
     let mut child = Command::new(BIN)
-        .args([
-            "run",
-            file.to_str().unwrap(),
-            "--results",
-            results.to_str().unwrap(),
-            "--threads",
-            "2",
-        ])
+        .args(run_args(&file, &results, &["--threads", "2"]))
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
@@ -604,14 +589,7 @@ fn two_runners_never_run_the_same_job() {
     let results = dir.join("results");
     let spawn = || {
         Command::new(BIN)
-            .args([
-                "run",
-                file.to_str().unwrap(),
-                "--results",
-                results.to_str().unwrap(),
-                "--threads",
-                "1",
-            ])
+            .args(run_args(&file, &results, &["--threads", "1"]))
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -655,14 +633,7 @@ fn two_runners_never_run_the_same_job() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success() && text.contains("done 6"), "{text}");
     // an override reaching computed points: its own tables, the jobs reused (not rerun)
-    granflow_ok(&[
-        "run",
-        file.to_str().unwrap(),
-        "--results",
-        results.to_str().unwrap(),
-        "--set",
-        "restitution=0.9",
-    ]);
+    granflow_ok(&run_args(&file, &results, &["--set", "restitution=0.9"]));
     let run_dir = results.join("proc/runs/restitution=0.9");
     let overridden = granflow::sweep::open_results(&run_dir).unwrap().0;
     assert_eq!(overridden.plan.len(), 3);
@@ -679,14 +650,7 @@ fn two_runners_never_run_the_same_job() {
     }
     // --job-range runs only its slice of the plan order
     let ranged = dir.join("ranged");
-    granflow_ok(&[
-        "run",
-        file.to_str().unwrap(),
-        "--results",
-        ranged.to_str().unwrap(),
-        "--job-range",
-        "1:3",
-    ]);
+    granflow_ok(&run_args(&file, &ranged, &["--job-range", "1:3"]));
     let sweep = load_sweep(&file, &[]).unwrap();
     for job in &sweep.plan {
         let done = ranged
@@ -718,16 +682,7 @@ fn failed_job_is_recorded_and_retried() {
     let bad = results.join("proc/jobs").join(&sweep.plan[1].id.0);
     std::fs::create_dir_all(&bad).unwrap();
     std::fs::write(bad.join(queue::CHECKPOINT_FILE), b"not a checkpoint").unwrap();
-    let run = |extra: &[&str]| {
-        let mut args = vec![
-            "run",
-            file.to_str().unwrap(),
-            "--results",
-            results.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        granflow(&args)
-    };
+    let run = |extra: &[&str]| granflow(&run_args(&file, &results, extra));
     let out = run(&[]);
     assert_eq!(
         out.status.code(),
