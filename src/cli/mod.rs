@@ -7,6 +7,7 @@ mod plan;
 mod run;
 mod sim;
 mod slurm;
+mod source;
 mod status;
 
 use clap::{Parser, Subcommand};

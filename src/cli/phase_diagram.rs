@@ -1,27 +1,22 @@
 //! `granflow phase-diagram results/<sweep> --x P [--y Q]`: print the grid of structure labels
 //! and write PNG and SVG plots into the results directory.
 
+use super::source::SweepSource;
 use crate::sweep::phase::{PhaseDiagram, swept_in};
-use crate::sweep::{BadInput, open_any, tables};
+use crate::sweep::{BadInput, tables};
 use clap::Args;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 pub struct PhaseDiagramArgs {
-    /// a results directory (results/<sweep>) or a sweep file
-    pub sweep: PathBuf,
+    #[command(flatten)]
+    pub source: SweepSource,
     /// parameter along x (default: the first swept one)
     #[arg(long)]
     pub x: Option<String>,
     /// parameter along y (default: the second swept one; none gives a strip)
     #[arg(long)]
     pub y: Option<String>,
-    /// results root when a sweep file is given
-    #[arg(long, default_value = "results")]
-    pub results: PathBuf,
-    /// overrides, as given to `run`, when a sweep file is given
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
 }
 
 /// Write `phase-<x>[-<y>].png` and `.svg` into `dir`; returns their paths.
@@ -38,7 +33,7 @@ pub fn write_plots(diagram: &PhaseDiagram, dir: &Path) -> anyhow::Result<(PathBu
 }
 
 pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
-    let (sweep, dirs) = open_any(&args.sweep, &args.set, &args.results)?;
+    let (sweep, dirs) = args.source.open()?;
     let jobs = tables::collect(&sweep, &dirs);
     let swept = swept_in(&sweep, &jobs);
     let x = match args

@@ -1,24 +1,18 @@
 //! `granflow status [SWEEP.ron | results/<sweep>]`: counts by state, per-job progress and
 //! failures with their errors.
 
-use crate::sweep::{open_any, queue::JobState, tables};
+use super::source::SweepSource;
+use crate::sweep::{queue::JobState, tables};
 use clap::Args;
-use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct StatusArgs {
-    /// a sweep file or a results directory (results/<sweep>)
-    pub sweep: PathBuf,
-    /// results root when a sweep file is given
-    #[arg(long, default_value = "results")]
-    pub results: PathBuf,
-    /// overrides, as given to `run`, when a sweep file is given
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    #[command(flatten)]
+    pub source: SweepSource,
 }
 
 pub fn run(args: StatusArgs) -> anyhow::Result<()> {
-    let (sweep, dirs) = open_any(&args.sweep, &args.set, &args.results)?;
+    let (sweep, dirs) = args.source.open()?;
     let jobs = tables::collect(&sweep, &dirs);
     let count = |name: &str| jobs.iter().filter(|j| j.state.name() == name).count();
     println!(
