@@ -8,6 +8,7 @@
 //! choosing who collides and how (no flights, no cells, no neighbour search).
 
 use crate::engine::edmd::collision::{ContactLaw, SphereVelocity, pair_collision};
+use crate::engine::edmd::setup::gaussian3;
 use nalgebra::Vector3;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
@@ -34,9 +35,9 @@ impl HomogeneousGas {
         assert!(n >= 2, "a gas needs at least two spheres");
         let mut rng = Pcg64::seed_from_u64(seed);
         let inertia = law.inertia_factor / 4.0; // I = K m d^2 / 4
-        let velocities = (0..n).map(|_| gaussian3(&mut rng, 1.0)).collect();
+        let velocities = (0..n).map(|_| gaussian3(&mut rng, 1.0).into()).collect();
         let spins = (0..n)
-            .map(|_| gaussian3(&mut rng, (1.0 / inertia).sqrt()))
+            .map(|_| gaussian3(&mut rng, (1.0 / inertia).sqrt()).into())
             .collect();
         let mut gas = HomogeneousGas {
             velocities,
@@ -123,15 +124,6 @@ impl HomogeneousGas {
         }
         self.speed_bound = 2.0 * self.velocities.iter().map(|c| c.norm()).fold(0.0, f64::max);
     }
-}
-
-/// Three independent normal deviates with standard deviation `sigma` (Box-Muller).
-fn gaussian3(rng: &mut Pcg64, sigma: f64) -> Vector3<f64> {
-    Vector3::from_fn(|_, _| {
-        let u1: f64 = 1.0 - rng.random::<f64>(); // (0, 1]
-        let u2: f64 = rng.random::<f64>();
-        sigma * (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    })
 }
 
 /// Unit vector k from sphere i to sphere j at contact, given the direction u of their relative

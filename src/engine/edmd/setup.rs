@@ -66,7 +66,7 @@ fn unplaceable(params: &EdmdParams, how: &str) -> EngineError {
 }
 
 /// Standard normal deviates by the Box-Muller transform, with libm's portable log and cos.
-fn gaussian3(rng: &mut Pcg64, sigma: f64) -> [f64; 3] {
+pub(crate) fn gaussian3(rng: &mut Pcg64, sigma: f64) -> [f64; 3] {
     let mut normal = || {
         let u1: f64 = 1.0 - rng.random::<f64>(); // (0, 1]
         let u2: f64 = rng.random::<f64>();
