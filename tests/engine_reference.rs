@@ -1,11 +1,11 @@
 //! Issue 2, test 6: the fast data structures against their simple reference versions.
 //! - the calendar queue pops exactly like the B-tree reference queue on random event streams;
-//! - the fast engine (cells, calendar queue, delayed updates) processes the same physical
-//!   events as the slow all-pairs reference engine on small systems.
+//! - the fast engine (cells or neighbour lists, calendar queue, delayed updates) processes the
+//!   same physical events as the slow all-pairs reference engine on small systems.
 
 use granflow::engine::edmd::queue::{CalendarQueue, EventQueue, ReferenceQueue};
 use granflow::engine::edmd::reference::ReferenceEngine;
-use granflow::engine::edmd::{EdmdEngine, EdmdParams, PhysicalEvent};
+use granflow::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, PhysicalEvent};
 use granflow::engine::{BoxGeometry, Engine, StopAt};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
@@ -86,10 +86,20 @@ fn small_system(walls: bool, gravity: f64, seed: u64) -> EdmdParams {
 /// to a few collisions per particle, where 1e-16 cannot have grown to 1e-9.
 const TIME_TOL: f64 = 1e-9;
 
+/// Both searches: cells, and neighbour lists with a wide skin (few renewals, lists spanning
+/// several periodic images of the small box) and a narrow one (many renewals).
+const SEARCHES: [NeighbourSearch; 3] = [
+    NeighbourSearch::Cells,
+    NeighbourSearch::Lists { skin: 0.5 },
+    NeighbourSearch::Lists { skin: 0.05 },
+];
+
 fn compare(params: EdmdParams, count: usize) {
-    let slow = ReferenceEngine::new(params.clone()).unwrap();
-    let fast = EdmdEngine::new(params).unwrap();
-    compare_engines(fast, slow, count);
+    for search in SEARCHES {
+        let slow = ReferenceEngine::new(params.clone()).unwrap();
+        let fast = EdmdEngine::with_search(params.clone(), search).unwrap();
+        compare_engines(fast, slow, count);
+    }
 }
 
 fn compare_engines(mut fast: EdmdEngine, mut slow: ReferenceEngine, count: usize) {
@@ -162,8 +172,10 @@ fn fast_engine_matches_all_pairs_engine_in_developed_flow_with_drifting_grid() {
             mean_flow > 1.0,
             "seed {seed}: the flow has not developed (U = {mean_flow})"
         );
-        let fast = EdmdEngine::restore(&warm.checkpoint()).unwrap();
-        let slow = ReferenceEngine::from_snapshot(params, &snapshot);
-        compare_engines(fast, slow, 100);
+        for search in SEARCHES {
+            let fast = EdmdEngine::restore_with_search(&warm.checkpoint(), search).unwrap();
+            let slow = ReferenceEngine::from_snapshot(params.clone(), &snapshot);
+            compare_engines(fast, slow, 100);
+        }
     }
 }

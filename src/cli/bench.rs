@@ -3,9 +3,9 @@
 //! with the keys `workload`, `n`, `phi`, `collisions_per_s`, `events_per_s`,
 //! `bytes_per_particle` (scripts compare runs with it; keep the keys).
 
-use crate::engine::edmd::{EdmdEngine, EdmdParams, Placement};
+use crate::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement};
 use crate::engine::{Engine, StopAt};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -23,6 +23,33 @@ pub struct BenchArgs {
     /// warm-up of the channel workload, in collisions per particle (not timed)
     #[arg(long, default_value_t = 100.0)]
     pub channel_warmup: f64,
+    /// neighbour search: what a run would choose (auto: cell lists below phi = 0.3, neighbour
+    /// lists from there on), or force one
+    #[arg(long, value_enum, default_value_t = SearchChoice::Auto)]
+    pub search: SearchChoice,
+    /// skin of the neighbour lists, in d (with lists)
+    #[arg(long, default_value_t = NeighbourSearch::DEFAULT_SKIN)]
+    pub skin: f64,
+}
+
+/// The neighbour search a benchmark uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SearchChoice {
+    Auto,
+    Cells,
+    Lists,
+}
+
+impl BenchArgs {
+    fn search_for(&self, params: &EdmdParams) -> NeighbourSearch {
+        match (self.search, NeighbourSearch::automatic(params)) {
+            (SearchChoice::Cells, _) => NeighbourSearch::Cells,
+            (SearchChoice::Lists, _) | (SearchChoice::Auto, NeighbourSearch::Lists { .. }) => {
+                NeighbourSearch::Lists { skin: self.skin }
+            }
+            (SearchChoice::Auto, NeighbourSearch::Cells) => NeighbourSearch::Cells,
+        }
+    }
 }
 
 /// One benchmark result; the field names are the JSON keys.
@@ -81,8 +108,12 @@ fn workloads(args: &BenchArgs) -> Vec<Workload> {
 }
 
 /// Run one workload: untimed set-up and warm-up, then the timed stretch.
-fn measure(w: &Workload, measured_cpp: f64) -> anyhow::Result<BenchResult> {
-    let mut engine = EdmdEngine::new(w.params.clone())?;
+fn measure(
+    w: &Workload,
+    search: NeighbourSearch,
+    measured_cpp: f64,
+) -> anyhow::Result<BenchResult> {
+    let mut engine = EdmdEngine::with_search(w.params.clone(), search)?;
     engine.advance(StopAt::CollisionsPerParticle(w.warmup))?;
     let before = engine.snapshot().counters;
     let started = Instant::now();
@@ -144,16 +175,21 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     } else {
         println!("machine: {machine}");
         println!(
-            "{:<28} {:>7} {:>6} {:>14} {:>14} {:>10}",
+            "{:<28} {:>7} {:>6} {:>14} {:>14} {:>10}  search",
             "workload", "n", "phi", "collisions/s", "events/s", "bytes/part"
         );
     }
     let mut results = Vec::new();
     for w in &selected {
-        let r = measure(w, args.collisions_per_particle)?;
+        let search = args.search_for(&w.params);
+        let r = measure(w, search, args.collisions_per_particle)?;
         if !args.json {
+            let search = match search {
+                NeighbourSearch::Cells => "cells".to_string(),
+                NeighbourSearch::Lists { skin } => format!("lists, skin {skin}"),
+            };
             println!(
-                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}",
+                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}",
                 r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
             );
         }

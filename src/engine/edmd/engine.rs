@@ -8,11 +8,15 @@ use super::cells::{AxisCells, CellGrid};
 use super::checkpoint::{self, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
 use super::motion::{fly, linear_exit_time, pair_contact_time_before, parabolic_exit_time};
+use super::neighbours::{Image, NeighbourLists};
 use super::queue::{CalendarQueue, EventQueue};
 use super::search::{PartnerBatch, prefetch};
 use super::setup;
 use crate::engine::{Counters, Engine, EngineError, Progress, Snapshot, StopAt};
 use nalgebra::Vector3;
+
+mod list_search;
+pub use list_search::NeighbourSearch;
 
 /// Cell side is at least d times this factor (> 1 so that round-off at cell faces never hides
 /// a partner).
@@ -53,6 +57,8 @@ pub(crate) enum EventKind {
     Cross { axis: u8, upper: bool },
     /// hits the wall at y = W (true) or y = 0
     Wall { upper: bool },
+    /// may have moved skin/2 from its neighbour list's centre: renews the list (list search)
+    Renew,
 }
 
 /// The earliest pair collision found by a particle's last full neighbour search (kept while
@@ -128,6 +134,14 @@ pub struct EdmdEngine {
     /// scheduled event and pair candidate of each particle (one record: one cache miss)
     plan: Vec<Plan>,
     queue: CalendarQueue,
+    /// how partners are found: cell lists, or neighbour lists (then the cells hold anchors)
+    search: NeighbourSearch,
+    /// symmetric neighbour lists (list search only)
+    lists: NeighbourLists,
+    /// centre of each particle's neighbour list, in the grid frame (list search only)
+    anchors: Vec<[f64; 3]>,
+    /// shift vector of each periodic image (box lengths along the periodic axes)
+    image_shifts: [[f64; 3]; Image::COUNT],
     cells: CellGrid,
     /// U, velocity along x of the cell grid: the grid drifts with the mean flow so that the
     /// fast flow of a channel does not turn into a stream of cell crossings. A particle's
@@ -151,9 +165,17 @@ pub struct EdmdEngine {
 }
 
 impl EdmdEngine {
-    /// A fresh run: place spheres, draw velocities, schedule all events.
+    /// A fresh run: place spheres, draw velocities, schedule all events. The neighbour search
+    /// is chosen from the parameters ([`NeighbourSearch::automatic`]).
     pub fn new(params: EdmdParams) -> Result<Self, EngineError> {
+        let search = NeighbourSearch::automatic(&params);
+        Self::with_search(params, search)
+    }
+
+    /// A fresh run with the given neighbour search (for tests and benchmarks).
+    pub fn with_search(params: EdmdParams, search: NeighbourSearch) -> Result<Self, EngineError> {
         params.validate()?;
+        search.validate()?;
         let start = setup::initial_state(&params)?;
         let n = params.particles;
         let state = EngineState {
@@ -168,35 +190,57 @@ impl EdmdEngine {
             dissipated: 0.0,
             gravity_work: 0.0,
         };
-        Ok(Self::from_state(state))
+        Ok(Self::from_state(state, search))
     }
 
     /// Rebuild an engine from checkpoint bytes (see [`checkpoint`]).
     pub fn restore(bytes: &[u8]) -> Result<Self, EngineError> {
         let state = checkpoint::decode(bytes)?;
         state.params.validate()?;
-        Ok(Self::from_state(state))
+        let search = NeighbourSearch::automatic(&state.params);
+        Ok(Self::from_state(state, search))
     }
 
-    fn from_state(state: EngineState) -> Self {
+    /// As [`EdmdEngine::restore`], with the given neighbour search (for tests).
+    pub fn restore_with_search(bytes: &[u8], search: NeighbourSearch) -> Result<Self, EngineError> {
+        let state = checkpoint::decode(bytes)?;
+        state.params.validate()?;
+        search.validate()?;
+        Ok(Self::from_state(state, search))
+    }
+
+    fn from_state(state: EngineState, search: NeighbourSearch) -> Self {
         let p = &state.params;
         let g = p.geometry;
         let n = p.particles;
+        let side = CELL_MARGIN * search.reach();
         let axes = [
-            AxisCells::new(0.0, g.length, g.length, true, CELL_MARGIN),
+            AxisCells::new(0.0, g.length, g.length, true, side),
             if g.walls {
                 AxisCells::new(
                     collision::RADIUS,
                     g.width - 2.0 * collision::RADIUS,
                     g.width,
                     false,
-                    CELL_MARGIN,
+                    side,
                 )
             } else {
-                AxisCells::new(0.0, g.width, g.width, true, CELL_MARGIN)
+                AxisCells::new(0.0, g.width, g.width, true, side)
             },
-            AxisCells::new(0.0, g.height, g.height, true, CELL_MARGIN),
+            AxisCells::new(0.0, g.height, g.height, true, side),
         ];
+        let ext = g.extents();
+        let periodic = [true, !g.walls, true];
+        let image_shifts = std::array::from_fn(|index| {
+            let k = Image::from_index(index).offsets();
+            std::array::from_fn(|a| {
+                if periodic[a] {
+                    k[a] as f64 * ext[a]
+                } else {
+                    0.0
+                }
+            })
+        });
         let kin = (0..n)
             .map(|i| Kinematics {
                 position: state.positions[i],
@@ -223,6 +267,13 @@ impl EdmdEngine {
             last_collision: state.last_collision,
             plan: vec![Plan::NONE; n],
             queue: CalendarQueue::new(n, 1, 1.0, state.now),
+            search,
+            lists: NeighbourLists::new(match search {
+                NeighbourSearch::Cells => 0,
+                NeighbourSearch::Lists { .. } => n,
+            }),
+            anchors: Vec::new(),
+            image_shifts,
             cells: CellGrid::new(axes, n),
             grid_drift: 0.0,
             grid_epoch: state.now,
@@ -263,7 +314,8 @@ impl EdmdEngine {
             + std::mem::size_of::<Plan>()
             + std::mem::size_of::<u32>()
             + self.queue.bytes_per_particle();
-        (per * n + self.cells.bytes()) as f64 / n as f64
+        let lists = self.lists.bytes() + std::mem::size_of_val(self.anchors.as_slice());
+        (per * n + self.cells.bytes() + lists) as f64 / n as f64
     }
 
     /// Bring every particle to the current time, wrap positions into the box, set the grid
@@ -305,6 +357,9 @@ impl EdmdEngine {
         // inserted last to first, so that each cell lists its particles in storage order
         for (slot, &s) in order.iter().enumerate().rev() {
             self.cells.insert(slot as u32, cell_of[s]);
+        }
+        if let NeighbourSearch::Lists { .. } = self.search {
+            self.build_all_lists();
         }
         // the grid drifts with the mean flow along gravity (U = <c_x>); none without gravity
         self.grid_epoch = self.now;
@@ -357,6 +412,16 @@ impl EdmdEngine {
     /// the earliest pair collision as the particle's candidate (whatever its time) and the
     /// earliest event as its event; returns the event time (infinite when nothing can happen).
     fn predict(&mut self, i: usize) -> f64 {
+        if let NeighbourSearch::Lists { .. } = self.search {
+            return self.predict_from_list(i);
+        }
+        let layers = self.neighbour_cells(i);
+        self.plan[i].candidate = self.scan_cells(i, &layers, f64::INFINITY);
+        self.choose_event(i)
+    }
+
+    /// The 27 cells around particle `i`'s cell, per axis as (cell, periodic shift) options.
+    fn neighbour_cells(&self, i: usize) -> [[Option<(usize, f64)>; 3]; 3] {
         let coords = self.cells.coords(self.cells.cell_of(i as u32));
         let mut layers = [[None; 3]; 3];
         for a in 0..3 {
@@ -364,8 +429,7 @@ impl EdmdEngine {
                 layers[a][k] = self.cells.axes[a].neighbour(coords[a], dc);
             }
         }
-        self.plan[i].candidate = self.scan_cells(i, &layers, f64::INFINITY);
-        self.choose_event(i)
+        layers
     }
 
     /// Event of particle `i` right after it crossed into a new cell along `axis`: its velocity
@@ -604,6 +668,10 @@ impl EdmdEngine {
             }
             EventKind::Wall { upper } => {
                 self.collide_wall(i, upper);
+                self.reschedule(i);
+            }
+            EventKind::Renew => {
+                self.renew_list(i);
                 self.reschedule(i);
             }
             EventKind::None => unreachable!("a particle without event was scheduled"),

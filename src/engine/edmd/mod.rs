@@ -3,7 +3,8 @@
 //!
 //! - [`collision`]: the pure collision rules (what happens).
 //! - [`motion`]: free flight under gravity and meeting times (when it happens).
-//! - [`cells`], [`queue`]: the fast data structures (with a reference queue for tests);
+//! - [`cells`], [`neighbours`], [`queue`]: the fast data structures (with a reference queue
+//!   for tests);
 //!   `search`: partner batches and prefetching for the neighbour search.
 //! - [`setup`]: placement and initial velocities; [`checkpoint`]: the file format.
 //! - [`EdmdEngine`]: the event loop; [`reference`]: a slow all-pairs engine for tests.
@@ -13,11 +14,12 @@ pub mod checkpoint;
 pub mod collision;
 mod engine;
 pub mod motion;
+pub mod neighbours;
 mod params;
 pub mod queue;
 pub mod reference;
 mod search;
 pub mod setup;
 
-pub use engine::{EdmdEngine, PhysicalEvent};
+pub use engine::{EdmdEngine, NeighbourSearch, PhysicalEvent};
 pub use params::{EdmdParams, Placement, particles_for_volume_fraction};

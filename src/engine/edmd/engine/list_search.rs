@@ -1,0 +1,200 @@
+//! The engine's neighbour-list search (used at high density): each particle's collision
+//! partners are read from its list instead of 27 cells, cell crossings disappear, and a
+//! particle renews its list when it has moved skin/2 from the list's centre (its anchor).
+//! The cell grid then holds the anchors, in cells of side >= d + skin.
+
+use super::super::motion::{ball_exit_time, ball_exit_time_bound, linear_exit_time};
+use super::super::neighbours::Image;
+use super::super::search::{PartnerBatch, prefetch};
+use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
+use crate::engine::edmd::EdmdParams;
+
+/// How the engine finds collision partners. Both give the same dynamics; they differ in speed
+/// (and in round-off, so a run is bitwise reproducible only with the same choice, which
+/// [`NeighbourSearch::automatic`] makes from the parameters alone).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NeighbourSearch {
+    /// cell lists, cells of side >= d: the partners are in the 27 cells around a particle
+    Cells,
+    /// neighbour lists of bounding spheres: partners are the particles whose list centres are
+    /// closer than d + `skin`; a list is renewed when its particle has moved `skin`/2
+    Lists {
+        /// skin, in d (0 < skin <= 1)
+        skin: f64,
+    },
+}
+
+impl NeighbourSearch {
+    /// At and above this volume fraction the engine uses neighbour lists.
+    pub const LISTS_FROM_VOLUME_FRACTION: f64 = 0.3;
+    /// Default skin of the neighbour lists, in d.
+    pub const DEFAULT_SKIN: f64 = 0.5;
+
+    /// Cell lists at low density, neighbour lists at high density (the choice depends on the
+    /// parameters only, so runs stay reproducible).
+    pub fn automatic(params: &EdmdParams) -> Self {
+        if params.volume_fraction() >= Self::LISTS_FROM_VOLUME_FRACTION {
+            NeighbourSearch::Lists {
+                skin: Self::DEFAULT_SKIN,
+            }
+        } else {
+            NeighbourSearch::Cells
+        }
+    }
+
+    /// Smallest cell side, in d: the reach of a search.
+    pub(super) fn reach(self) -> f64 {
+        match self {
+            NeighbourSearch::Cells => 1.0,
+            NeighbourSearch::Lists { skin } => 1.0 + skin,
+        }
+    }
+
+    pub(super) fn validate(self) -> Result<(), crate::engine::EngineError> {
+        match self {
+            NeighbourSearch::Lists { skin } if !(skin > 0.0 && skin <= 1.0) => {
+                Err(crate::engine::EngineError::InvalidParams(format!(
+                    "neighbour-list skin = {skin} is out of range: allowed (0, 1] particle diameters"
+                )))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+impl EdmdEngine {
+    fn skin(&self) -> f64 {
+        match self.search {
+            NeighbourSearch::Lists { skin } => skin,
+            NeighbourSearch::Cells => unreachable!("list search without lists"),
+        }
+    }
+
+    /// Anchor every particle where it is now and build all lists (part of a rebuild: the
+    /// cells already hold the particles at their current positions, which are in the box).
+    pub(super) fn build_all_lists(&mut self) {
+        self.lists.clear();
+        self.anchors = self.kin.iter().map(|k| k.position).collect();
+        for i in 0..self.kin.len() {
+            self.link_overlapping(i, true);
+        }
+    }
+
+    /// Link particle `i` with every particle whose anchor is within d + skin of its own (in
+    /// any periodic image); with `higher_only`, only with particles in higher slots.
+    fn link_overlapping(&mut self, i: usize, higher_only: bool) {
+        let reach = 1.0 + self.skin();
+        let layers = self.neighbour_cells(i);
+        let a = self.anchors[i];
+        for &(cz, sz) in layers[2].iter().flatten() {
+            for &(cy, sy) in layers[1].iter().flatten() {
+                for &(cx, sx) in layers[0].iter().flatten() {
+                    let cell = self.cells.index([cx, cy, cz]);
+                    for j in self.cells.members(cell) {
+                        if j as usize == i || (higher_only && (j as usize) < i) {
+                            continue;
+                        }
+                        let b = self.anchors[j as usize];
+                        let d = [a[0] - (b[0] + sx), a[1] - (b[1] + sy), a[2] - (b[2] + sz)];
+                        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach {
+                            self.lists.link(i as u32, j, Image::of_shift([sx, sy, sz]));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Renew particle `i`'s list (it is at `now`): leave the old neighbours, anchor where it
+    /// is (wrapped into the box of the grid frame), link with the new neighbours.
+    pub(super) fn renew_list(&mut self, i: usize) {
+        self.lists.unlink_all(i as u32);
+        let offset = self.grid_drift * (self.now - self.grid_epoch);
+        let ext = self.params.geometry.extents();
+        let walls = self.params.geometry.walls;
+        let position = &mut self.kin[i].position;
+        for (axis, shift) in [(0, offset), (1, 0.0), (2, 0.0)] {
+            if axis == 1 && walls {
+                continue;
+            }
+            let xi = position[axis] - shift;
+            if !(0.0..ext[axis]).contains(&xi) {
+                position[axis] -= (xi / ext[axis]).floor() * ext[axis];
+            }
+        }
+        self.anchors[i] = [position[0] - offset, position[1], position[2]];
+        let cell = self.cells.index(self.cells.locate(self.anchors[i]));
+        self.cells.relocate(i as u32, cell);
+        self.link_overlapping(i, false);
+    }
+
+    /// Earliest event of particle `i` (at `now`) with list search: a collision with a
+    /// neighbour, a wall, or the renewal of its list. Stored as its event; time returned.
+    pub(super) fn predict_from_list(&mut self, i: usize) -> f64 {
+        let (exit_time, exit_kind) = self.list_exit_event(i);
+        let mut best = PairCandidate::NONE;
+        let mut best_dt = exit_time - self.now;
+        let mut batch = PartnerBatch::new();
+        for entry in self.lists.of(i) {
+            let j = entry.slot();
+            prefetch(&self.kin[j as usize]);
+            if batch.push(j, self.image_shifts[entry.image().index()]) {
+                self.earliest_in_batch(i, &batch, &mut best, &mut best_dt);
+                batch.clear();
+            }
+        }
+        self.earliest_in_batch(i, &batch, &mut best, &mut best_dt);
+        let (time, kind) = if best.partner != NO_PARTNER {
+            (
+                best.time,
+                EventKind::Pair {
+                    partner: best.partner,
+                    partner_collisions: best.partner_collisions,
+                },
+            )
+        } else {
+            (exit_time, exit_kind)
+        };
+        self.plan[i].event = kind;
+        time
+    }
+
+    /// The earlier of particle `i`'s wall hit and the renewal of its list: the moment it may
+    /// have moved skin/2 from its anchor (in the grid frame, drifting with U; exact without
+    /// gravity, a safe lower bound with it).
+    fn list_exit_event(&self, i: usize) -> (f64, EventKind) {
+        let me = &self.kin[i];
+        let g = self.params.gravity;
+        let a = self.anchors[i];
+        let u = self.grid_drift;
+        let d = [
+            me.position[0] - u * (self.now - self.grid_epoch) - a[0],
+            me.position[1] - a[1],
+            me.position[2] - a[2],
+        ];
+        let v = [me.velocity[0] - u, me.velocity[1], me.velocity[2]];
+        let radius = 0.5 * self.skin();
+        let mut best = if g > 0.0 {
+            ball_exit_time_bound(d, v, g, radius)
+        } else {
+            ball_exit_time(d, v, radius).unwrap_or(f64::INFINITY)
+        };
+        let mut kind = EventKind::Renew;
+        if self.params.geometry.walls {
+            let w = self.params.geometry.width;
+            let lowest = collision::RADIUS;
+            if let Some((dt, upper)) =
+                linear_exit_time(me.position[1], me.velocity[1], lowest, w - lowest)
+            {
+                if dt < best {
+                    best = dt;
+                    kind = EventKind::Wall { upper };
+                }
+            }
+        }
+        if best.is_infinite() {
+            kind = EventKind::None;
+        }
+        (self.now + best, kind)
+    }
+}

@@ -1,0 +1,257 @@
+//! Neighbour lists of bounding spheres (Donev, Torquato & Stillinger, J. Comput. Phys. 202,
+//! 737 (2005)): every particle stays within skin/2 of its list's centre, so two particles can
+//! only touch if their centres are closer than d + skin; each particle lists those, and the
+//! lists are kept symmetric (j in i's list exactly when i is in j's), so renewing one list
+//! never needs a search by anyone else.
+//!
+//! Storage is one flat array with a fixed number of words per particle (its list length, then
+//! its entries): a particle's whole list is one or two cache lines, and nothing is allocated
+//! per event. The stride doubles when a list overflows (rare; deterministic in the state).
+
+/// A periodic image offset per axis, each in {-1, 0, +1}, coded as one number in 0..27.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Image(u8);
+
+impl Image {
+    /// No periodic shift.
+    pub const SAME: Image = Image(13);
+    /// Number of distinct images.
+    pub const COUNT: usize = 27;
+
+    /// The image with offsets `k` (each -1, 0 or +1) box lengths along each axis.
+    pub fn new(k: [i8; 3]) -> Self {
+        debug_assert!(k.iter().all(|v| (-1..=1).contains(v)));
+        Image(((k[0] + 1) + 3 * (k[1] + 1) + 9 * (k[2] + 1)) as u8)
+    }
+
+    /// The image with index `index` in 0..27 (see [`Image::index`]).
+    pub fn from_index(index: usize) -> Self {
+        assert!(index < Self::COUNT);
+        Image(index as u8)
+    }
+
+    /// The image of a shift vector whose components are 0 or +-(box length).
+    pub fn of_shift(shift: [f64; 3]) -> Self {
+        Image::new(shift.map(|s| (s > 0.0) as i8 - (s < 0.0) as i8))
+    }
+
+    /// Offsets in box lengths along each axis.
+    pub fn offsets(self) -> [i8; 3] {
+        let c = self.0 as i8;
+        [c % 3 - 1, (c / 3) % 3 - 1, c / 9 - 1]
+    }
+
+    /// The opposite shift (seen from the partner).
+    pub fn opposite(self) -> Self {
+        Image(26 - self.0)
+    }
+
+    /// Index in 0..27 (for tables of shift vectors).
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// One entry of a list: partner slot (27 bits) and the image of the partner that is near.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Neighbour(u32);
+
+impl Neighbour {
+    const SLOT_BITS: u32 = 27;
+    /// Largest number of particles the packing can address.
+    pub const MAX_PARTICLES: usize = 1 << Self::SLOT_BITS;
+
+    pub fn new(slot: u32, image: Image) -> Self {
+        debug_assert!((slot as usize) < Self::MAX_PARTICLES);
+        Neighbour(slot | (image.0 as u32) << Self::SLOT_BITS)
+    }
+
+    /// Storage slot of the partner.
+    #[inline(always)]
+    pub fn slot(self) -> u32 {
+        self.0 & ((1 << Self::SLOT_BITS) - 1)
+    }
+
+    /// Which periodic image of the partner is the neighbour.
+    #[inline(always)]
+    pub fn image(self) -> Image {
+        Image((self.0 >> Self::SLOT_BITS) as u8)
+    }
+}
+
+/// Symmetric neighbour lists of all particles.
+#[derive(Clone, Debug)]
+pub struct NeighbourLists {
+    /// words per particle: the length, then up to stride - 1 entries
+    stride: usize,
+    words: Vec<u32>,
+}
+
+impl NeighbourLists {
+    const INITIAL_STRIDE: usize = 16;
+
+    /// Empty lists for `particles` particles.
+    pub fn new(particles: usize) -> Self {
+        assert!(
+            particles <= Neighbour::MAX_PARTICLES,
+            "neighbour lists address at most {} particles",
+            Neighbour::MAX_PARTICLES
+        );
+        NeighbourLists {
+            stride: Self::INITIAL_STRIDE,
+            words: vec![0; particles * Self::INITIAL_STRIDE],
+        }
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.words.len() / self.stride
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.words.is_empty()
+    }
+
+    /// The neighbours of particle `i`.
+    #[inline(always)]
+    pub fn of(&self, i: usize) -> impl Iterator<Item = Neighbour> + '_ {
+        let start = i * self.stride;
+        let len = self.words[start] as usize;
+        self.words[start + 1..start + 1 + len]
+            .iter()
+            .map(|&w| Neighbour(w))
+    }
+
+    /// Where particle `i`'s list starts (for prefetching).
+    #[inline(always)]
+    pub fn head(&self, i: usize) -> &u32 {
+        &self.words[i * self.stride]
+    }
+
+    /// Empty every list.
+    pub fn clear(&mut self) {
+        self.words.fill(0);
+    }
+
+    /// Record that image `image` of `j` is near `i` (and so the opposite image of `i` is near
+    /// `j`).
+    pub fn link(&mut self, i: u32, j: u32, image: Image) {
+        self.push(i as usize, Neighbour::new(j, image));
+        self.push(j as usize, Neighbour::new(i, image.opposite()));
+    }
+
+    /// Empty particle `i`'s list and take `i` out of the lists of its former neighbours.
+    pub fn unlink_all(&mut self, i: u32) {
+        let start = i as usize * self.stride;
+        let len = self.words[start] as usize;
+        for k in 0..len {
+            let entry = Neighbour(self.words[start + 1 + k]);
+            self.remove(
+                entry.slot() as usize,
+                Neighbour::new(i, entry.image().opposite()),
+            );
+        }
+        self.words[start] = 0;
+    }
+
+    /// Memory used, in bytes.
+    pub fn bytes(&self) -> usize {
+        4 * self.words.len()
+    }
+
+    fn push(&mut self, i: usize, entry: Neighbour) {
+        if self.words[i * self.stride] as usize + 1 == self.stride {
+            self.grow();
+        }
+        let start = i * self.stride;
+        let len = self.words[start] as usize;
+        self.words[start + 1 + len] = entry.0;
+        self.words[start] += 1;
+    }
+
+    /// Remove `entry` from particle `i`'s list (the last entry takes its place).
+    fn remove(&mut self, i: usize, entry: Neighbour) {
+        let start = i * self.stride;
+        let len = self.words[start] as usize;
+        let list = &mut self.words[start + 1..start + 1 + len];
+        let at = list
+            .iter()
+            .position(|&w| w == entry.0)
+            .expect("neighbour lists are symmetric");
+        list[at] = list[len - 1];
+        self.words[start] -= 1;
+    }
+
+    /// Double the room per particle, keeping every list as it is.
+    fn grow(&mut self) {
+        let n = self.len();
+        let stride = 2 * self.stride;
+        let mut words = vec![0; n * stride];
+        for i in 0..n {
+            let old = &self.words[i * self.stride..(i + 1) * self.stride];
+            words[i * stride..i * stride + self.stride].copy_from_slice(old);
+        }
+        self.stride = stride;
+        self.words = words;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_pcg::Pcg64;
+    use std::collections::BTreeSet;
+
+    #[test]
+    fn images_code_and_invert() {
+        for x in -1..=1 {
+            for y in -1..=1 {
+                for z in -1..=1 {
+                    let image = Image::new([x, y, z]);
+                    assert_eq!(image.offsets(), [x, y, z]);
+                    assert_eq!(image.opposite().offsets(), [-x, -y, -z]);
+                }
+            }
+        }
+        assert_eq!(Image::SAME.offsets(), [0, 0, 0]);
+    }
+
+    /// Through random links and renewals (with enough neighbours to overflow the initial
+    /// room), the packed lists hold exactly the pairs of a plain set of (i, j, image).
+    #[test]
+    fn packed_lists_agree_with_a_set_of_pairs() {
+        let n = 40u32;
+        let mut lists = NeighbourLists::new(n as usize);
+        let mut pairs: BTreeSet<(u32, u32, Image)> = BTreeSet::new();
+        let mut rng = Pcg64::seed_from_u64(11);
+        for step in 0..20_000 {
+            let i = rng.random_range(0..n);
+            if rng.random::<f64>() < 0.1 {
+                lists.unlink_all(i);
+                pairs.retain(|&(a, b, _)| a != i && b != i);
+            } else {
+                let j = (i + rng.random_range(1..n)) % n;
+                let image = Image(rng.random_range(0..27u8));
+                if !pairs.contains(&(i, j, image)) {
+                    lists.link(i, j, image);
+                    pairs.insert((i, j, image));
+                    pairs.insert((j, i, image.opposite()));
+                }
+            }
+            if step % 100 == 0 {
+                for p in 0..n {
+                    let got: BTreeSet<(u32, u32, Image)> = lists
+                        .of(p as usize)
+                        .map(|e| (p, e.slot(), e.image()))
+                        .collect();
+                    let want: BTreeSet<(u32, u32, Image)> =
+                        pairs.iter().filter(|e| e.0 == p).copied().collect();
+                    assert_eq!(got, want, "particle {p} at step {step}");
+                    assert_eq!(lists.of(p as usize).count(), want.len(), "duplicates");
+                }
+            }
+        }
+        assert!(lists.stride > NeighbourLists::INITIAL_STRIDE, "never grew");
+    }
+}
