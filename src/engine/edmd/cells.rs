@@ -7,6 +7,8 @@
 //! Along a wall axis (y in the channel) the cells cover only the reachable centre positions
 //! [a, W - a]: leaving an edge cell through its outer face is a wall collision.
 
+use super::neighbours::Image;
+
 /// Geometry of the grid along one axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisCells {
@@ -38,8 +40,9 @@ impl AxisCells {
     /// Cell containing coordinate `x` (clamped into the grid).
     #[inline(always)]
     pub fn cell_of(&self, x: f64) -> usize {
-        let c = ((x - self.origin) / self.side).floor();
-        (c.max(0.0) as usize).min(self.count - 1)
+        // `as` truncates towards zero and saturates (negative and NaN give 0): the floor for
+        // x >= origin, the clamp below it, without a call to floor
+        (((x - self.origin) / self.side) as usize).min(self.count - 1)
     }
 
     /// Lower and upper face of cell `c`.
@@ -73,6 +76,31 @@ impl AxisCells {
 
 /// End of a cell's list.
 const EMPTY: u32 = u32::MAX;
+
+/// Cells around a particle, each with the periodic image in which its members are near: the
+/// 27 of a full search, or the 9 that become adjacent when the particle crosses a face. Kept
+/// as up to three options per axis, each a part of the flat index and of the image code, so
+/// visiting a cell costs two additions.
+#[derive(Clone, Copy, Debug)]
+pub struct Neighbourhood {
+    /// per axis: (flat-index part, image-code part) of each option
+    parts: [[(u32, u8); 3]; 3],
+    counts: [usize; 3],
+}
+
+impl Neighbourhood {
+    /// Call `visit(flat cell, image)` for every cell.
+    #[inline(always)]
+    pub fn for_each(&self, mut visit: impl FnMut(usize, Image)) {
+        for &(z, kz) in &self.parts[2][..self.counts[2]] {
+            for &(y, ky) in &self.parts[1][..self.counts[1]] {
+                for &(x, kx) in &self.parts[0][..self.counts[0]] {
+                    visit((z + y + x) as usize, Image::from_code(kz + ky + kx));
+                }
+            }
+        }
+    }
+}
 
 /// Cell membership of all particles.
 #[derive(Clone, Debug)]
@@ -147,6 +175,46 @@ impl CellGrid {
             self.axes[1].cell_of(p[1]),
             self.axes[2].cell_of(p[2]),
         ]
+    }
+
+    /// The 27 cells around flat cell `cell` (fewer past a wall).
+    #[inline]
+    pub fn around(&self, cell: usize) -> Neighbourhood {
+        self.block(self.coords(cell), [&[-1, 0, 1]; 3])
+    }
+
+    /// The 9 cells that became adjacent when a particle entered flat cell `cell` across its
+    /// upper (true) or lower face along `axis` (fewer past a wall).
+    #[inline]
+    pub fn entered(&self, cell: usize, axis: usize, upper: bool) -> Neighbourhood {
+        let mut offsets: [&[isize]; 3] = [&[-1, 0, 1]; 3];
+        offsets[axis] = if upper { &[1] } else { &[-1] };
+        self.block(self.coords(cell), offsets)
+    }
+
+    /// The cells at the given offsets per axis from cell `coords`.
+    #[inline(always)]
+    fn block(&self, coords: [usize; 3], offsets: [&[isize]; 3]) -> Neighbourhood {
+        let strides = [
+            1,
+            self.axes[0].count,
+            self.axes[0].count * self.axes[1].count,
+        ];
+        let image_strides = [1, 3, 9];
+        let mut hood = Neighbourhood {
+            parts: [[(0, 0); 3]; 3],
+            counts: [0; 3],
+        };
+        for a in 0..3 {
+            for &dc in offsets[a] {
+                if let Some((c, shift)) = self.axes[a].neighbour(coords[a], dc) {
+                    let k = 1 + (shift > 0.0) as u8 - (shift < 0.0) as u8;
+                    hood.parts[a][hood.counts[a]] = ((c * strides[a]) as u32, k * image_strides[a]);
+                    hood.counts[a] += 1;
+                }
+            }
+        }
+        hood
     }
 
     /// Flat cell of particle `id`.

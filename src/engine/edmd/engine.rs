@@ -4,7 +4,7 @@
 //! is processed.
 
 use super::EdmdParams;
-use super::cells::{AxisCells, CellGrid};
+use super::cells::{AxisCells, CellGrid, Neighbourhood};
 use super::checkpoint::{self, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
 use super::motion::{fly, linear_exit_time, pair_contact_time_before, parabolic_exit_time};
@@ -415,21 +415,9 @@ impl EdmdEngine {
         if let NeighbourSearch::Lists { .. } = self.search {
             return self.predict_from_list(i);
         }
-        let layers = self.neighbour_cells(i);
-        self.plan[i].candidate = self.scan_cells(i, &layers, f64::INFINITY);
+        let around = self.cells.around(self.cells.cell_of(i as u32));
+        self.plan[i].candidate = self.scan_cells(i, &around, f64::INFINITY);
         self.choose_event(i)
-    }
-
-    /// The 27 cells around particle `i`'s cell, per axis as (cell, periodic shift) options.
-    fn neighbour_cells(&self, i: usize) -> [[Option<(usize, f64)>; 3]; 3] {
-        let coords = self.cells.coords(self.cells.cell_of(i as u32));
-        let mut layers = [[None; 3]; 3];
-        for a in 0..3 {
-            for (k, dc) in [-1, 0, 1].into_iter().enumerate() {
-                layers[a][k] = self.cells.axes[a].neighbour(coords[a], dc);
-            }
-        }
-        layers
     }
 
     /// Event of particle `i` right after it crossed into a new cell along `axis`: its velocity
@@ -444,18 +432,10 @@ impl EdmdEngine {
         if !still_valid {
             return self.predict(i);
         }
-        let coords = self.cells.coords(self.cells.cell_of(i as u32));
-        let mut layers = [[None; 3]; 3];
-        for a in 0..3 {
-            if a == axis {
-                layers[a][0] = self.cells.axes[a].neighbour(coords[a], if upper { 1 } else { -1 });
-            } else {
-                for (k, dc) in [-1, 0, 1].into_iter().enumerate() {
-                    layers[a][k] = self.cells.axes[a].neighbour(coords[a], dc);
-                }
-            }
-        }
-        let found = self.scan_cells(i, &layers, candidate.time);
+        let entered = self
+            .cells
+            .entered(self.cells.cell_of(i as u32), axis, upper);
+        let found = self.scan_cells(i, &entered, candidate.time);
         if found.time < candidate.time {
             self.plan[i].candidate = found;
         }
@@ -529,62 +509,47 @@ impl EdmdEngine {
     }
 
     /// Earliest collision of particle `i` (at `now`) before `horizon` with a sphere in the
-    /// cells given per axis as (cell, periodic shift) options: `layers[axis][k]`.
+    /// cells of `hood`.
     ///
     /// The cell lists are walked first (their heads prefetched), collecting partners in batches
     /// and prefetching their records, so that cache misses overlap instead of following each
     /// other.
-    fn scan_cells(
-        &self,
-        i: usize,
-        layers: &[[Option<(usize, f64)>; 3]; 3],
-        horizon: f64,
-    ) -> PairCandidate {
+    fn scan_cells(&self, i: usize, hood: &Neighbourhood, horizon: f64) -> PairCandidate {
         let mut best = PairCandidate::NONE;
         let mut best_dt = horizon - self.now;
         let mut batch = PartnerBatch::new();
-        for &(cz, _) in layers[2].iter().flatten() {
-            for &(cy, _) in layers[1].iter().flatten() {
-                for &(cx, _) in layers[0].iter().flatten() {
-                    prefetch(self.cells.head(self.cells.index([cx, cy, cz])));
+        hood.for_each(|cell, _| prefetch(self.cells.head(cell)));
+        hood.for_each(|cell, image| {
+            for j in self.cells.members(cell) {
+                if j as usize == i {
+                    continue;
+                }
+                prefetch(&self.kin[j as usize]);
+                if batch.push(j, image) {
+                    self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
+                    batch.clear();
                 }
             }
-        }
-        for &(cz, sz) in layers[2].iter().flatten() {
-            for &(cy, sy) in layers[1].iter().flatten() {
-                for &(cx, sx) in layers[0].iter().flatten() {
-                    let ncell = self.cells.index([cx, cy, cz]);
-                    for j in self.cells.members(ncell) {
-                        if j as usize == i {
-                            continue;
-                        }
-                        prefetch(&self.kin[j as usize]);
-                        if batch.push(j, [sx, sy, sz]) {
-                            self.earliest_in_batch(i, &batch, &mut best, &mut best_dt);
-                            batch.clear();
-                        }
-                    }
-                }
-            }
-        }
-        self.earliest_in_batch(i, &batch, &mut best, &mut best_dt);
+        });
+        self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
         best
     }
 
-    /// Update `best` (contact before `now + best_dt`) with the partners of particle `i` in
-    /// `batch`.
+    /// Update `best` (contact before `now + best_dt`) with the given partners of particle `i`,
+    /// each in its periodic image.
     #[inline(always)]
-    fn earliest_in_batch(
+    fn earliest_among(
         &self,
         i: usize,
-        batch: &PartnerBatch,
+        partners: impl Iterator<Item = (u32, Image)>,
         best: &mut PairCandidate,
         best_dt: &mut f64,
     ) {
         let me = &self.kin[i];
         let g = self.params.gravity;
-        for (&j, shift) in batch.partners() {
+        for (j, image) in partners {
             let other = &self.kin[j as usize];
+            let shift = &self.image_shifts[image.index()];
             // partner brought to `now` on the fly (its stored state is not touched)
             let (rj, cj) = fly(other.position, other.velocity, g, self.now - other.time);
             let r = [

@@ -30,6 +30,13 @@ impl Image {
         Image(index as u8)
     }
 
+    /// The image with code (kx + 1) + 3 (ky + 1) + 9 (kz + 1) for offsets k in {-1, 0, 1}.
+    #[inline(always)]
+    pub(crate) fn from_code(code: u8) -> Self {
+        debug_assert!((code as usize) < Self::COUNT);
+        Image(code)
+    }
+
     /// The image of a shift vector whose components are 0 or +-(box length).
     pub fn of_shift(shift: [f64; 3]) -> Self {
         Image::new(shift.map(|s| (s > 0.0) as i8 - (s < 0.0) as i8))

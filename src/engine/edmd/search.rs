@@ -1,11 +1,13 @@
 //! Neighbour-search helpers: partners collected in batches, and cache prefetching, so that
 //! the memory latency of many partner records overlaps instead of adding up.
 
-/// Partners of a neighbour search collected before they are tested (see `scan_cells`).
+use super::neighbours::Image;
+
+/// Partners of a neighbour search collected before they are tested (see `scan_cells`), each
+/// with the periodic image in which it is near.
 pub(crate) struct PartnerBatch {
     ids: [u32; PartnerBatch::CAPACITY],
-    /// periodic shift to add to each partner's position
-    shifts: [[f64; 3]; PartnerBatch::CAPACITY],
+    images: [Image; PartnerBatch::CAPACITY],
     len: usize,
 }
 
@@ -16,16 +18,16 @@ impl PartnerBatch {
     pub(crate) fn new() -> Self {
         PartnerBatch {
             ids: [0; Self::CAPACITY],
-            shifts: [[0.0; 3]; Self::CAPACITY],
+            images: [Image::SAME; Self::CAPACITY],
             len: 0,
         }
     }
 
     /// Add a partner; true when the batch is full.
     #[inline(always)]
-    pub(crate) fn push(&mut self, id: u32, shift: [f64; 3]) -> bool {
+    pub(crate) fn push(&mut self, id: u32, image: Image) -> bool {
         self.ids[self.len] = id;
-        self.shifts[self.len] = shift;
+        self.images[self.len] = image;
         self.len += 1;
         self.len == Self::CAPACITY
     }
@@ -36,8 +38,11 @@ impl PartnerBatch {
     }
 
     #[inline(always)]
-    pub(crate) fn partners(&self) -> impl Iterator<Item = (&u32, &[f64; 3])> {
-        self.ids[..self.len].iter().zip(&self.shifts[..self.len])
+    pub(crate) fn partners(&self) -> impl Iterator<Item = (u32, Image)> + '_ {
+        self.ids[..self.len]
+            .iter()
+            .copied()
+            .zip(self.images[..self.len].iter().copied())
     }
 }
 

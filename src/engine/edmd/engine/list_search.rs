@@ -4,8 +4,7 @@
 //! The cell grid then holds the anchors, in cells of side >= d + skin.
 
 use super::super::motion::{ball_exit_time, ball_exit_time_bound, linear_exit_time};
-use super::super::neighbours::Image;
-use super::super::search::{PartnerBatch, prefetch};
+use super::super::search::prefetch;
 use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
 use crate::engine::edmd::EdmdParams;
 
@@ -84,25 +83,25 @@ impl EdmdEngine {
     /// any periodic image); with `higher_only`, only with particles in higher slots.
     fn link_overlapping(&mut self, i: usize, higher_only: bool) {
         let reach = 1.0 + self.skin();
-        let layers = self.neighbour_cells(i);
+        let around = self.cells.around(self.cells.cell_of(i as u32));
         let a = self.anchors[i];
-        for &(cz, sz) in layers[2].iter().flatten() {
-            for &(cy, sy) in layers[1].iter().flatten() {
-                for &(cx, sx) in layers[0].iter().flatten() {
-                    let cell = self.cells.index([cx, cy, cz]);
-                    for j in self.cells.members(cell) {
-                        if j as usize == i || (higher_only && (j as usize) < i) {
-                            continue;
-                        }
-                        let b = self.anchors[j as usize];
-                        let d = [a[0] - (b[0] + sx), a[1] - (b[1] + sy), a[2] - (b[2] + sz)];
-                        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach {
-                            self.lists.link(i as u32, j, Image::of_shift([sx, sy, sz]));
-                        }
-                    }
+        around.for_each(|cell, image| {
+            let shift = self.image_shifts[image.index()];
+            for j in self.cells.members(cell) {
+                if j as usize == i || (higher_only && (j as usize) < i) {
+                    continue;
+                }
+                let b = self.anchors[j as usize];
+                let d = [
+                    a[0] - (b[0] + shift[0]),
+                    a[1] - (b[1] + shift[1]),
+                    a[2] - (b[2] + shift[2]),
+                ];
+                if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach {
+                    self.lists.link(i as u32, j, image);
                 }
             }
-        }
+        });
     }
 
     /// Renew particle `i`'s list (it is at `now`): leave the old neighbours, anchor where it
@@ -134,16 +133,11 @@ impl EdmdEngine {
         let (exit_time, exit_kind) = self.list_exit_event(i);
         let mut best = PairCandidate::NONE;
         let mut best_dt = exit_time - self.now;
-        let mut batch = PartnerBatch::new();
         for entry in self.lists.of(i) {
-            let j = entry.slot();
-            prefetch(&self.kin[j as usize]);
-            if batch.push(j, self.image_shifts[entry.image().index()]) {
-                self.earliest_in_batch(i, &batch, &mut best, &mut best_dt);
-                batch.clear();
-            }
+            prefetch(&self.kin[entry.slot() as usize]);
         }
-        self.earliest_in_batch(i, &batch, &mut best, &mut best_dt);
+        let partners = self.lists.of(i).map(|e| (e.slot(), e.image()));
+        self.earliest_among(i, partners, &mut best, &mut best_dt);
         let (time, kind) = if best.partner != NO_PARTNER {
             (
                 best.time,
