@@ -140,6 +140,10 @@ impl CellGrid {
     /// An empty grid for `particles` particles.
     pub fn new(axes: [AxisCells; 3], particles: usize) -> Self {
         let cells = axes.iter().map(|a| a.count).product::<usize>();
+        assert!(
+            cells < u32::MAX as usize,
+            "{cells} cells: flat cell indices are 32-bit"
+        );
         CellGrid {
             axes,
             head: vec![EMPTY; cells],
@@ -163,8 +167,11 @@ impl CellGrid {
     /// Cell coordinates of flat index `cell`.
     #[inline(always)]
     pub fn coords(&self, cell: usize) -> [usize; 3] {
-        let (nx, ny) = (self.axes[0].count, self.axes[1].count);
-        [cell % nx, (cell / nx) % ny, cell / (nx * ny)]
+        // 32-bit division: several times faster than 64-bit on common x86_64 cores
+        let (nx, ny) = (self.axes[0].count as u32, self.axes[1].count as u32);
+        let cell = cell as u32;
+        let (row, x) = (cell / nx, cell % nx);
+        [x as usize, (row % ny) as usize, (row / ny) as usize]
     }
 
     /// Cell coordinates containing position `p`.

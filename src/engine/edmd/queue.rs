@@ -123,12 +123,14 @@ pub struct CalendarQueue {
 
 impl CalendarQueue {
     /// A queue for `particles` particles with `buckets` buckets of `width`, starting at `now`.
+    /// The bucket count is rounded up to a power of two (a bucket's slot is then a bit mask of
+    /// its absolute index, not a division).
     pub fn new(particles: usize, buckets: usize, width: f64, now: f64) -> Self {
         assert!(buckets > 0 && width > 0.0 && width.is_finite());
         let current = (now / width).floor() as i64;
         CalendarQueue {
             node: vec![Node::EMPTY; particles],
-            bucket_head: vec![NIL; buckets],
+            bucket_head: vec![NIL; buckets.next_power_of_two()],
             overflow_head: NIL,
             heap: Vec::with_capacity(64),
             width,
@@ -150,9 +152,19 @@ impl CalendarQueue {
         std::mem::size_of::<Node>() + 4
     }
 
+    /// Absolute index floor(t / width) of the bucket of time `t` (truncation, corrected below
+    /// zero: no call to `floor`).
     #[inline(always)]
     fn bucket_of(&self, time: f64) -> i64 {
-        (time / self.width).floor() as i64
+        let t = time / self.width;
+        let k = t as i64;
+        k - ((k as f64) > t) as i64
+    }
+
+    /// Slot of absolute bucket index `abs` in the year (the bucket count is a power of two).
+    #[inline(always)]
+    fn slot_of(&self, abs: i64) -> usize {
+        (abs as u64 & (self.bucket_head.len() as u64 - 1)) as usize
     }
 
     #[inline(always)]
@@ -166,7 +178,7 @@ impl CalendarQueue {
         if abs <= self.current {
             self.heap_push(id);
         } else if abs < self.year_start + self.bucket_head.len() as i64 {
-            let slot = abs.rem_euclid(self.bucket_head.len() as i64) as u32;
+            let slot = self.slot_of(abs) as u32;
             let head = self.bucket_head[slot as usize];
             self.link_front(id, head);
             self.bucket_head[slot as usize] = id;
@@ -283,7 +295,7 @@ impl CalendarQueue {
                 self.year_start += buckets;
                 self.redistribute_overflow();
             }
-            let slot = self.current.rem_euclid(buckets) as usize;
+            let slot = self.slot_of(self.current);
             let mut id = std::mem::replace(&mut self.bucket_head[slot], NIL);
             while id != NIL {
                 let next = self.node[id as usize].next;
