@@ -239,6 +239,28 @@ impl CellGrid {
         }
     }
 
+    /// First particle of flat cell `cell`, if any.
+    #[inline(always)]
+    pub fn first(&self, cell: usize) -> Option<u32> {
+        let id = self.head[cell];
+        (id != EMPTY).then_some(id)
+    }
+
+    /// Particle `first` and the ones after it in its cell.
+    #[inline(always)]
+    pub fn members_from(&self, first: u32) -> CellMembers<'_> {
+        CellMembers {
+            next: &self.next,
+            current: first,
+        }
+    }
+
+    /// Where particle `id`'s link to the next member of its cell is stored (for prefetching).
+    #[inline(always)]
+    pub fn link(&self, id: u32) -> &u32 {
+        &self.next[id as usize]
+    }
+
     /// Where the list of flat cell `cell` starts (for prefetching).
     #[inline(always)]
     pub fn head(&self, cell: usize) -> &u32 {

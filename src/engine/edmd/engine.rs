@@ -511,26 +511,39 @@ impl EdmdEngine {
     /// Earliest collision of particle `i` (at `now`) before `horizon` with a sphere in the
     /// cells of `hood`.
     ///
-    /// The cell lists are walked first (their heads prefetched), collecting partners in batches
-    /// and prefetching their records, so that cache misses overlap instead of following each
-    /// other.
+    /// Memory latency is what limits this search, so it runs in three passes whose loads do
+    /// not wait on each other: prefetch the cells' heads; read them and prefetch each first
+    /// member's record and link; walk the lists, collecting partners in batches (prefetching
+    /// later members' records) and testing each full batch.
     fn scan_cells(&self, i: usize, hood: &Neighbourhood, horizon: f64) -> PairCandidate {
         let mut best = PairCandidate::NONE;
         let mut best_dt = horizon - self.now;
-        let mut batch = PartnerBatch::new();
         hood.for_each(|cell, _| prefetch(self.cells.head(cell)));
+        let mut occupied = [(0u32, Image::SAME); 27];
+        let mut count = 0;
         hood.for_each(|cell, image| {
-            for j in self.cells.members(cell) {
+            if let Some(first) = self.cells.first(cell) {
+                prefetch(self.cells.link(first));
+                prefetch(&self.kin[first as usize]);
+                occupied[count] = (first, image);
+                count += 1;
+            }
+        });
+        let mut batch = PartnerBatch::new();
+        for &(first, image) in &occupied[..count] {
+            for j in self.cells.members_from(first) {
                 if j as usize == i {
                     continue;
                 }
-                prefetch(&self.kin[j as usize]);
+                if j != first {
+                    prefetch(&self.kin[j as usize]);
+                }
                 if batch.push(j, image) {
                     self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
                     batch.clear();
                 }
             }
-        });
+        }
         self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
         best
     }
