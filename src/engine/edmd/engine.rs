@@ -614,6 +614,7 @@ impl EdmdEngine {
             let next = next as usize;
             prefetch(&self.kin[next]);
             prefetch(&self.plan[next]);
+            prefetch(&self.angular[next]);
         }
         self.now = t;
         self.counters.events += 1;
@@ -654,7 +655,21 @@ impl EdmdEngine {
             }
             EventKind::None => unreachable!("a particle without event was scheduled"),
         }
+        self.prefetch_partner_of_next_event();
         true
+    }
+
+    /// The next event's own records were prefetched when this step began; by now its plan has
+    /// arrived, so the partner it names can be loaded too (if a collision, the partner's
+    /// records are read at once: its collision counter, then its velocities).
+    #[inline(always)]
+    fn prefetch_partner_of_next_event(&mut self) {
+        if let Some((_, next)) = self.queue.peek() {
+            if let EventKind::Pair { partner, .. } = self.plan[next as usize].event {
+                prefetch(&self.kin[partner as usize]);
+                prefetch(&self.angular[partner as usize]);
+            }
+        }
     }
 
     /// Move particle `i` into the next cell along `axis`, wrapping across the periodic seam.
