@@ -615,6 +615,9 @@ impl EdmdEngine {
             prefetch(&self.kin[next]);
             prefetch(&self.plan[next]);
             prefetch(&self.angular[next]);
+            if !self.lists.is_empty() {
+                prefetch(self.lists.head(next));
+            }
         }
         self.now = t;
         self.counters.events += 1;
@@ -659,15 +662,26 @@ impl EdmdEngine {
         true
     }
 
-    /// The next event's own records were prefetched when this step began; by now its plan has
-    /// arrived, so the partner it names can be loaded too (if a collision, the partner's
-    /// records are read at once: its collision counter, then its velocities).
+    /// The next event's own records were prefetched when this step began; by now its plan (and
+    /// neighbour list) has arrived, so what they name can be loaded too: the partner of a
+    /// collision (its counter and velocities are read at once, its list next) and the
+    /// neighbours that the particle's next prediction will test.
     #[inline(always)]
     fn prefetch_partner_of_next_event(&mut self) {
         if let Some((_, next)) = self.queue.peek() {
-            if let EventKind::Pair { partner, .. } = self.plan[next as usize].event {
-                prefetch(&self.kin[partner as usize]);
-                prefetch(&self.angular[partner as usize]);
+            let next = next as usize;
+            if let EventKind::Pair { partner, .. } = self.plan[next].event {
+                let j = partner as usize;
+                prefetch(&self.kin[j]);
+                prefetch(&self.angular[j]);
+                if !self.lists.is_empty() {
+                    prefetch(self.lists.head(j));
+                }
+            }
+            if !self.lists.is_empty() {
+                for entry in self.lists.of(next) {
+                    prefetch(&self.kin[entry.slot() as usize]);
+                }
             }
         }
     }
