@@ -7,6 +7,7 @@
 //! redistributed once a year. [`ReferenceQueue`] is the simple version (a B-tree) that tests
 //! check it against. Both pop in exactly the same order: ties in time go to the smaller index.
 
+use super::search::prefetch;
 use std::collections::BTreeSet;
 
 /// The interface both queues offer.
@@ -83,19 +84,22 @@ struct Node {
     time: f64,
     /// where the event is: NOWHERE, IN_HEAP, IN_OVERFLOW or a bucket slot
     place: u32,
-    /// list links (buckets and overflow)
-    next: u32,
-    prev: u32,
     /// position in the heap (while IN_HEAP)
     heap_index: u32,
+}
+
+/// A particle's links in its bucket's (or the overflow's) list: kept apart from the nodes, in
+/// a compact array, so that walking a bucket does not wait on one node after another.
+#[derive(Clone, Copy, Debug)]
+struct Link {
+    next: u32,
+    prev: u32,
 }
 
 impl Node {
     const EMPTY: Node = Node {
         time: f64::INFINITY,
         place: NOWHERE,
-        next: NIL,
-        prev: NIL,
         heap_index: 0,
     };
 }
@@ -105,6 +109,8 @@ impl Node {
 pub struct CalendarQueue {
     /// each particle's entry (one record, so that scheduling touches one cache line)
     node: Vec<Node>,
+    /// each particle's list links
+    links: Vec<Link>,
     /// first particle of each bucket's list
     bucket_head: Vec<u32>,
     overflow_head: u32,
@@ -130,6 +136,13 @@ impl CalendarQueue {
         let current = (now / width).floor() as i64;
         CalendarQueue {
             node: vec![Node::EMPTY; particles],
+            links: vec![
+                Link {
+                    next: NIL,
+                    prev: NIL
+                };
+                particles
+            ],
             bucket_head: vec![NIL; buckets.next_power_of_two()],
             overflow_head: NIL,
             heap: Vec::with_capacity(64),
@@ -148,8 +161,8 @@ impl CalendarQueue {
 
     /// Memory per particle, in bytes, assuming one bucket per particle.
     pub fn bytes_per_particle(&self) -> usize {
-        // a node, a bucket head, and (rarely more than a few) heap slots
-        std::mem::size_of::<Node>() + 4
+        // a node, its links, a bucket head, and (rarely more than a few) heap slots
+        std::mem::size_of::<Node>() + std::mem::size_of::<Link>() + 4
     }
 
     /// Absolute index floor(t / width) of the bucket of time `t` (truncation, corrected below
@@ -194,20 +207,22 @@ impl CalendarQueue {
 
     #[inline(always)]
     fn link_front(&mut self, id: u32, head: u32) {
-        self.node[id as usize].prev = NIL;
-        self.node[id as usize].next = head;
+        self.links[id as usize] = Link {
+            next: head,
+            prev: NIL,
+        };
         if head != NIL {
-            self.node[head as usize].prev = id;
+            self.links[head as usize].prev = id;
         }
     }
 
     fn unlink(&mut self, id: u32) {
-        let (p, n) = (self.node[id as usize].prev, self.node[id as usize].next);
+        let Link { next: n, prev: p } = self.links[id as usize];
         if n != NIL {
-            self.node[n as usize].prev = p;
+            self.links[n as usize].prev = p;
         }
         if p != NIL {
-            self.node[p as usize].next = n;
+            self.links[p as usize].next = n;
         } else {
             match self.node[id as usize].place {
                 IN_OVERFLOW => self.overflow_head = n,
@@ -284,7 +299,7 @@ impl CalendarQueue {
                 let mut id = self.overflow_head;
                 while id != NIL {
                     earliest = earliest.min(self.bucket_of(self.node[id as usize].time));
-                    id = self.node[id as usize].next;
+                    id = self.links[id as usize].next;
                 }
                 self.current = earliest - 1;
                 self.year_start = earliest;
@@ -296,12 +311,18 @@ impl CalendarQueue {
                 self.redistribute_overflow();
             }
             let slot = self.slot_of(self.current);
+            // walk the bucket's links first, prefetching the nodes, then order them: pushing
+            // all and sifting each up in turn builds the same heap as pushing one by one
             let mut id = std::mem::replace(&mut self.bucket_head[slot], NIL);
             while id != NIL {
-                let next = self.node[id as usize].next;
+                prefetch(&self.node[id as usize]);
+                self.heap.push(id);
                 self.in_buckets -= 1;
-                self.heap_push(id);
-                id = next;
+                id = self.links[id as usize].next;
+            }
+            for pos in 0..self.heap.len() {
+                self.node[self.heap[pos] as usize].place = IN_HEAP;
+                self.sift_up(pos);
             }
         }
     }
@@ -310,7 +331,7 @@ impl CalendarQueue {
     fn redistribute_overflow(&mut self) {
         let mut id = std::mem::replace(&mut self.overflow_head, NIL);
         while id != NIL {
-            let next = self.node[id as usize].next;
+            let next = self.links[id as usize].next;
             self.place_event(id);
             id = next;
         }
