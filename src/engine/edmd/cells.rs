@@ -8,6 +8,7 @@
 //! [a, W - a]: leaving an edge cell through its outer face is a wall collision.
 
 use super::neighbours::Image;
+use super::search::prefetch;
 
 /// Geometry of the grid along one axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -239,32 +240,36 @@ impl CellGrid {
         }
     }
 
-    /// First particle of flat cell `cell`, if any.
+    /// Visit every member `j` of the cells of `hood`, with the image of its cell, in cell and
+    /// list order, issuing the loads before any waits on another: prefetch the cells' heads;
+    /// read them, prefetching each first member's link and, through `prefetch_record`, its
+    /// record; then walk the lists (later members' records are the caller's to prefetch).
     #[inline(always)]
-    pub fn first(&self, cell: usize) -> Option<u32> {
-        let id = self.head[cell];
-        (id != EMPTY).then_some(id)
-    }
-
-    /// Particle `first` and the ones after it in its cell.
-    #[inline(always)]
-    pub fn members_from(&self, first: u32) -> CellMembers<'_> {
-        CellMembers {
-            next: &self.next,
-            current: first,
+    pub fn walk(
+        &self,
+        hood: &Neighbourhood,
+        prefetch_record: impl Fn(u32),
+        mut visit: impl FnMut(u32, Image),
+    ) {
+        hood.for_each(|cell, _| prefetch(&self.head[cell]));
+        let mut occupied = [(0u32, Image::SAME); 27];
+        let mut count = 0;
+        hood.for_each(|cell, image| {
+            let first = self.head[cell];
+            if first != EMPTY {
+                prefetch(&self.next[first as usize]);
+                prefetch_record(first);
+                occupied[count] = (first, image);
+                count += 1;
+            }
+        });
+        for &(first, image) in &occupied[..count] {
+            let mut j = first;
+            while j != EMPTY {
+                visit(j, image);
+                j = self.next[j as usize];
+            }
         }
-    }
-
-    /// Where particle `id`'s link to the next member of its cell is stored (for prefetching).
-    #[inline(always)]
-    pub fn link(&self, id: u32) -> &u32 {
-        &self.next[id as usize]
-    }
-
-    /// Where the list of flat cell `cell` starts (for prefetching).
-    #[inline(always)]
-    pub fn head(&self, cell: usize) -> &u32 {
-        &self.head[cell]
     }
 
     /// Put particle `id` (in no cell) at the front of flat cell `cell`.
@@ -345,6 +350,15 @@ mod tests {
                     }
                 }
             }
+            // the prefetching walk visits what the plain member lists of its cells hold
+            let hood = grid.around(cell);
+            let mut walked = Vec::new();
+            grid.walk(&hood, |_| {}, |j, image| walked.push((j, image)));
+            let mut listed = Vec::new();
+            hood.for_each(|c, image| listed.extend(reference[c].iter().map(|&j| (j, image))));
+            walked.sort_unstable();
+            listed.sort_unstable();
+            assert_eq!(walked, listed, "walk around cell {cell}");
             for c in [cell, rng.random_range(0..cells)] {
                 let mut got: Vec<u32> = grid.members(c).collect();
                 let mut want = reference[c].clone();

@@ -518,32 +518,21 @@ impl EdmdEngine {
     fn scan_cells(&self, i: usize, hood: &Neighbourhood, horizon: f64) -> PairCandidate {
         let mut best = PairCandidate::NONE;
         let mut best_dt = horizon - self.now;
-        hood.for_each(|cell, _| prefetch(self.cells.head(cell)));
-        let mut occupied = [(0u32, Image::SAME); 27];
-        let mut count = 0;
-        hood.for_each(|cell, image| {
-            if let Some(first) = self.cells.first(cell) {
-                prefetch(self.cells.link(first));
-                prefetch(&self.kin[first as usize]);
-                occupied[count] = (first, image);
-                count += 1;
-            }
-        });
         let mut batch = PartnerBatch::new();
-        for &(first, image) in &occupied[..count] {
-            for j in self.cells.members_from(first) {
+        self.cells.walk(
+            hood,
+            |first| prefetch(&self.kin[first as usize]),
+            |j, image| {
                 if j as usize == i {
-                    continue;
+                    return;
                 }
-                if j != first {
-                    prefetch(&self.kin[j as usize]);
-                }
+                prefetch(&self.kin[j as usize]);
                 if batch.push(j, image) {
                     self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
                     batch.clear();
                 }
-            }
-        }
+            },
+        );
         self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
         best
     }

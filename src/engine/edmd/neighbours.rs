@@ -8,6 +8,8 @@
 //! its entries): a particle's whole list is one or two cache lines, and nothing is allocated
 //! per event. The stride doubles when a list overflows (rare; deterministic in the state).
 
+use super::search::prefetch;
+
 /// A periodic image offset per axis, each in {-1, 0, +1}, coded as one number in 0..27.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Image(u8);
@@ -151,6 +153,11 @@ impl NeighbourLists {
     pub fn unlink_all(&mut self, i: u32) {
         let start = i as usize * self.stride;
         let len = self.words[start] as usize;
+        // the former neighbours' lists are scattered: start loading all of them first
+        for k in 0..len {
+            let j = Neighbour(self.words[start + 1 + k]).slot() as usize;
+            prefetch(&self.words[j * self.stride]);
+        }
         for k in 0..len {
             let entry = Neighbour(self.words[start + 1 + k]);
             self.remove(

@@ -85,23 +85,26 @@ impl EdmdEngine {
         let reach = 1.0 + self.skin();
         let around = self.cells.around(self.cells.cell_of(i as u32));
         let a = self.anchors[i];
-        around.for_each(|cell, image| {
-            let shift = self.image_shifts[image.index()];
-            for j in self.cells.members(cell) {
+        let (cells, anchors, lists) = (&self.cells, &self.anchors, &mut self.lists);
+        cells.walk(
+            &around,
+            |first| prefetch(&anchors[first as usize]),
+            |j, image| {
                 if j as usize == i || (higher_only && (j as usize) < i) {
-                    continue;
+                    return;
                 }
-                let b = self.anchors[j as usize];
+                let b = anchors[j as usize];
+                let shift = self.image_shifts[image.index()];
                 let d = [
                     a[0] - (b[0] + shift[0]),
                     a[1] - (b[1] + shift[1]),
                     a[2] - (b[2] + shift[2]),
                 ];
                 if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach {
-                    self.lists.link(i as u32, j, image);
+                    lists.link(i as u32, j, image);
                 }
-            }
-        });
+            },
+        );
     }
 
     /// Renew particle `i`'s list (it is at `now`): leave the old neighbours, anchor where it
