@@ -8,7 +8,7 @@ use super::cells::{AxisCells, CellGrid, Neighbourhood};
 use super::checkpoint::{self, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
 use super::motion::{fly, linear_exit_time, pair_contact_time_before, parabolic_exit_time};
-use super::neighbours::{Image, NeighbourLists};
+use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::queue::{CalendarQueue, EventQueue};
 use super::search::{PartnerBatch, prefetch};
 use super::setup;
@@ -140,6 +140,8 @@ pub struct EdmdEngine {
     lists: NeighbourLists,
     /// centre of each particle's neighbour list, in the grid frame (list search only)
     anchors: Vec<[f64; 3]>,
+    /// neighbours found by a list renewal (reused: no allocation per event)
+    scratch: Vec<Neighbour>,
     /// shift vector of each periodic image (box lengths along the periodic axes)
     image_shifts: [[f64; 3]; Image::COUNT],
     cells: CellGrid,
@@ -273,6 +275,7 @@ impl EdmdEngine {
                 NeighbourSearch::Lists { .. } => n,
             }),
             anchors: Vec::new(),
+            scratch: Vec::new(),
             image_shifts,
             cells: CellGrid::new(axes, n),
             grid_drift: 0.0,

@@ -168,6 +168,43 @@ impl NeighbourLists {
         self.words[start] = 0;
     }
 
+    /// Make `new` particle `i`'s list, editing only the lists of particles that left it or
+    /// joined it (a renewal keeps most neighbours: removing and re-adding all of them costs a
+    /// search in each of their lists).
+    pub fn replace(&mut self, i: u32, new: &[Neighbour]) {
+        let start = i as usize * self.stride;
+        let len = self.words[start] as usize;
+        for k in 0..len {
+            let j = Neighbour(self.words[start + 1 + k]).slot() as usize;
+            prefetch(&self.words[j * self.stride]);
+        }
+        for k in 0..len {
+            let old = Neighbour(self.words[start + 1 + k]);
+            if !new.contains(&old) {
+                self.remove(
+                    old.slot() as usize,
+                    Neighbour::new(i, old.image().opposite()),
+                );
+            }
+        }
+        // i's old list is untouched so far; pushes may move it (growth), so re-find it
+        for &entry in new {
+            let start = i as usize * self.stride;
+            let len = self.words[start] as usize;
+            if !self.words[start + 1..start + 1 + len].contains(&entry.0) {
+                self.push(
+                    entry.slot() as usize,
+                    Neighbour::new(i, entry.image().opposite()),
+                );
+            }
+        }
+        let start = i as usize * self.stride;
+        self.words[start] = 0;
+        for &entry in new {
+            self.push(i as usize, entry);
+        }
+    }
+
     /// Memory used, in bytes.
     pub fn bytes(&self) -> usize {
         4 * self.words.len()
@@ -241,9 +278,29 @@ mod tests {
         let mut rng = Pcg64::seed_from_u64(11);
         for step in 0..20_000 {
             let i = rng.random_range(0..n);
-            if rng.random::<f64>() < 0.1 {
+            let roll = rng.random::<f64>();
+            if roll < 0.1 {
                 lists.unlink_all(i);
                 pairs.retain(|&(a, b, _)| a != i && b != i);
+            } else if roll < 0.2 {
+                // a renewal: keep some neighbours, drop others, add new ones
+                let mut new: Vec<Neighbour> = lists
+                    .of(i as usize)
+                    .filter(|_| rng.random::<f64>() < 0.7)
+                    .collect();
+                for _ in 0..rng.random_range(0..6) {
+                    let j = (i + rng.random_range(1..n)) % n;
+                    let entry = Neighbour::new(j, Image(rng.random_range(0..27u8)));
+                    if !new.contains(&entry) {
+                        new.push(entry);
+                    }
+                }
+                lists.replace(i, &new);
+                pairs.retain(|&(a, b, _)| a != i && b != i);
+                for e in &new {
+                    pairs.insert((i, e.slot(), e.image()));
+                    pairs.insert((e.slot(), i, e.image().opposite()));
+                }
             } else {
                 let j = (i + rng.random_range(1..n)) % n;
                 let image = Image(rng.random_range(0..27u8));

@@ -4,6 +4,7 @@
 //! The cell grid then holds the anchors, in cells of side >= d + skin.
 
 use super::super::motion::{ball_exit_time, ball_exit_time_bound, linear_exit_time};
+use super::super::neighbours::Neighbour;
 use super::super::search::prefetch;
 use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
 use crate::engine::edmd::EdmdParams;
@@ -74,26 +75,31 @@ impl EdmdEngine {
     pub(super) fn build_all_lists(&mut self) {
         self.lists.clear();
         self.anchors = self.kin.iter().map(|k| k.position).collect();
+        let mut found = std::mem::take(&mut self.scratch);
         for i in 0..self.kin.len() {
-            self.link_overlapping(i, true);
+            self.overlapping(i, true, &mut found);
+            for entry in &found {
+                self.lists.link(i as u32, entry.slot(), entry.image());
+            }
         }
+        self.scratch = found;
     }
 
-    /// Link particle `i` with every particle whose anchor is within d + skin of its own (in
-    /// any periodic image); with `higher_only`, only with particles in higher slots.
-    fn link_overlapping(&mut self, i: usize, higher_only: bool) {
+    /// The particles whose anchors are within d + skin of particle `i`'s (in any periodic
+    /// image), into `found`; with `higher_only`, only those in higher slots.
+    fn overlapping(&self, i: usize, higher_only: bool, found: &mut Vec<Neighbour>) {
+        found.clear();
         let reach = 1.0 + self.skin();
         let around = self.cells.around(self.cells.cell_of(i as u32));
         let a = self.anchors[i];
-        let (cells, anchors, lists) = (&self.cells, &self.anchors, &mut self.lists);
-        cells.walk(
+        self.cells.walk(
             &around,
-            |first| prefetch(&anchors[first as usize]),
+            |first| prefetch(&self.anchors[first as usize]),
             |j, image| {
                 if j as usize == i || (higher_only && (j as usize) < i) {
                     return;
                 }
-                let b = anchors[j as usize];
+                let b = self.anchors[j as usize];
                 let shift = self.image_shifts[image.index()];
                 let d = [
                     a[0] - (b[0] + shift[0]),
@@ -101,16 +107,16 @@ impl EdmdEngine {
                     a[2] - (b[2] + shift[2]),
                 ];
                 if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach {
-                    lists.link(i as u32, j, image);
+                    found.push(Neighbour::new(j, image));
                 }
             },
         );
     }
 
-    /// Renew particle `i`'s list (it is at `now`): leave the old neighbours, anchor where it
-    /// is (wrapped into the box of the grid frame), link with the new neighbours.
+    /// Renew particle `i`'s list (it is at `now`): anchor it where it is (wrapped into the box
+    /// of the grid frame) and list the particles now within reach, editing only the lists of
+    /// those that left or joined.
     pub(super) fn renew_list(&mut self, i: usize) {
-        self.lists.unlink_all(i as u32);
         let offset = self.grid_drift * (self.now - self.grid_epoch);
         let ext = self.params.geometry.extents();
         let walls = self.params.geometry.walls;
@@ -127,7 +133,10 @@ impl EdmdEngine {
         self.anchors[i] = [position[0] - offset, position[1], position[2]];
         let cell = self.cells.index(self.cells.locate(self.anchors[i]));
         self.cells.relocate(i as u32, cell);
-        self.link_overlapping(i, false);
+        let mut found = std::mem::take(&mut self.scratch);
+        self.overlapping(i, false, &mut found);
+        self.lists.replace(i as u32, &found);
+        self.scratch = found;
     }
 
     /// Earliest event of particle `i` (at `now`) with list search: a collision with a
