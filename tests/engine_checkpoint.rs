@@ -2,7 +2,7 @@
 //! resumed ends bitwise identical to the uninterrupted run; truncated, corrupt and foreign
 //! checkpoints are rejected with a reason.
 
-use granflow::engine::edmd::{EdmdEngine, EdmdParams};
+use granflow::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch};
 use granflow::engine::{self, EngineError, Snapshot, StopAt};
 
 fn channel() -> EdmdParams {
@@ -43,12 +43,11 @@ fn assert_bitwise_equal(a: &Snapshot, b: &Snapshot) {
     assert_eq!(a.wall_momentum, b.wall_momentum);
 }
 
-#[test]
-fn resumed_run_is_bitwise_identical_to_uninterrupted_run() {
-    let mut straight = EdmdEngine::new(channel()).unwrap();
+fn resume_equals_uninterrupted(params: EdmdParams) {
+    let mut straight = EdmdEngine::new(params.clone()).unwrap();
     let reference = run(&mut straight, 0, 10);
 
-    let mut first = EdmdEngine::new(channel()).unwrap();
+    let mut first = EdmdEngine::new(params.clone()).unwrap();
     run(&mut first, 0, 4);
     let bytes = engine::Engine::checkpoint(&first);
     drop(first);
@@ -58,8 +57,26 @@ fn resumed_run_is_bitwise_identical_to_uninterrupted_run() {
     assert_bitwise_equal(&reference, &end);
 
     // and a second, identical run is bitwise identical too (no hidden state such as addresses)
-    let mut again = EdmdEngine::new(channel()).unwrap();
+    let mut again = EdmdEngine::new(params).unwrap();
     assert_bitwise_equal(&reference, &run(&mut again, 0, 10));
+}
+
+#[test]
+fn resumed_run_is_bitwise_identical_to_uninterrupted_run() {
+    resume_equals_uninterrupted(channel());
+}
+
+/// The same with neighbour lists (a dense channel, phi = 0.35): the lists, anchors and
+/// renewal events are rebuilt from the state at the checkpoint exactly as the uninterrupted
+/// run rebuilds them at the same snapshot.
+#[test]
+fn resumed_run_with_neighbour_lists_is_bitwise_identical() {
+    let dense = EdmdParams::channel(10.0, 10.0, 10.0, 0.35, 42);
+    assert!(matches!(
+        NeighbourSearch::automatic(&dense),
+        NeighbourSearch::Lists { .. }
+    ));
+    resume_equals_uninterrupted(dense);
 }
 
 #[test]
