@@ -39,11 +39,6 @@ impl Image {
         Image(code)
     }
 
-    /// The image of a shift vector whose components are 0 or +-(box length).
-    pub fn of_shift(shift: [f64; 3]) -> Self {
-        Image::new(shift.map(|s| (s > 0.0) as i8 - (s < 0.0) as i8))
-    }
-
     /// Offsets in box lengths along each axis.
     pub fn offsets(self) -> [i8; 3] {
         let c = self.0 as i8;
@@ -86,6 +81,12 @@ impl Neighbour {
     pub fn image(self) -> Image {
         Image((self.0 >> Self::SLOT_BITS) as u8)
     }
+
+    /// The entry for particle `i` in the list of this entry's partner (the opposite image).
+    #[inline(always)]
+    fn back_to(self, i: u32) -> Neighbour {
+        Neighbour::new(i, self.image().opposite())
+    }
 }
 
 /// Symmetric neighbour lists of all particles.
@@ -113,12 +114,8 @@ impl NeighbourLists {
     }
 
     /// Number of particles.
-    pub fn len(&self) -> usize {
+    fn len(&self) -> usize {
         self.words.len() / self.stride
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.words.is_empty()
     }
 
     /// The neighbours of particle `i`.
@@ -145,27 +142,9 @@ impl NeighbourLists {
     /// Record that image `image` of `j` is near `i` (and so the opposite image of `i` is near
     /// `j`).
     pub fn link(&mut self, i: u32, j: u32, image: Image) {
-        self.push(i as usize, Neighbour::new(j, image));
-        self.push(j as usize, Neighbour::new(i, image.opposite()));
-    }
-
-    /// Empty particle `i`'s list and take `i` out of the lists of its former neighbours.
-    pub fn unlink_all(&mut self, i: u32) {
-        let start = i as usize * self.stride;
-        let len = self.words[start] as usize;
-        // the former neighbours' lists are scattered: start loading all of them first
-        for k in 0..len {
-            let j = Neighbour(self.words[start + 1 + k]).slot() as usize;
-            prefetch(&self.words[j * self.stride]);
-        }
-        for k in 0..len {
-            let entry = Neighbour(self.words[start + 1 + k]);
-            self.remove(
-                entry.slot() as usize,
-                Neighbour::new(i, entry.image().opposite()),
-            );
-        }
-        self.words[start] = 0;
+        let entry = Neighbour::new(j, image);
+        self.push(i as usize, entry);
+        self.push(j as usize, entry.back_to(i));
     }
 
     /// Make `new` particle `i`'s list, editing only the lists of particles that left it or
@@ -174,6 +153,7 @@ impl NeighbourLists {
     pub fn replace(&mut self, i: u32, new: &[Neighbour]) {
         let start = i as usize * self.stride;
         let len = self.words[start] as usize;
+        // the former neighbours' lists are scattered: start loading all of them first
         for k in 0..len {
             let j = Neighbour(self.words[start + 1 + k]).slot() as usize;
             prefetch(&self.words[j * self.stride]);
@@ -181,10 +161,7 @@ impl NeighbourLists {
         for k in 0..len {
             let old = Neighbour(self.words[start + 1 + k]);
             if !new.contains(&old) {
-                self.remove(
-                    old.slot() as usize,
-                    Neighbour::new(i, old.image().opposite()),
-                );
+                self.remove(old.slot() as usize, old.back_to(i));
             }
         }
         // i's old list is untouched so far; pushes may move it (growth), so re-find it
@@ -192,10 +169,7 @@ impl NeighbourLists {
             let start = i as usize * self.stride;
             let len = self.words[start] as usize;
             if !self.words[start + 1..start + 1 + len].contains(&entry.0) {
-                self.push(
-                    entry.slot() as usize,
-                    Neighbour::new(i, entry.image().opposite()),
-                );
+                self.push(entry.slot() as usize, entry.back_to(i));
             }
         }
         let start = i as usize * self.stride;
@@ -280,7 +254,7 @@ mod tests {
             let i = rng.random_range(0..n);
             let roll = rng.random::<f64>();
             if roll < 0.1 {
-                lists.unlink_all(i);
+                lists.replace(i, &[]);
                 pairs.retain(|&(a, b, _)| a != i && b != i);
             } else if roll < 0.2 {
                 // a renewal: keep some neighbours, drop others, add new ones
