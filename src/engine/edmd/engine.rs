@@ -361,7 +361,7 @@ impl EdmdEngine {
         for (slot, &s) in order.iter().enumerate().rev() {
             self.cells.insert(slot as u32, cell_of[s]);
         }
-        if let NeighbourSearch::Lists { .. } = self.search {
+        if self.uses_lists() {
             self.build_all_lists();
         }
         // the grid drifts with the mean flow along gravity (U = <c_x>); none without gravity
@@ -415,7 +415,7 @@ impl EdmdEngine {
     /// the earliest pair collision as the particle's candidate (whatever its time) and the
     /// earliest event as its event; returns the event time (infinite when nothing can happen).
     fn predict(&mut self, i: usize) -> f64 {
-        if let NeighbourSearch::Lists { .. } = self.search {
+        if self.uses_lists() {
             return self.predict_from_list(i);
         }
         let around = self.cells.around(self.cells.cell_of(i as u32));
@@ -578,6 +578,12 @@ impl EdmdEngine {
         }
     }
 
+    /// True with neighbour-list search (else cells).
+    #[inline(always)]
+    fn uses_lists(&self) -> bool {
+        matches!(self.search, NeighbourSearch::Lists { .. })
+    }
+
     /// Predict and schedule the next event of particle `i`.
     #[inline]
     fn reschedule(&mut self, i: usize) {
@@ -607,7 +613,7 @@ impl EdmdEngine {
             prefetch(&self.kin[next]);
             prefetch(&self.plan[next]);
             prefetch(&self.angular[next]);
-            if !self.lists.is_empty() {
+            if self.uses_lists() {
                 prefetch(self.lists.head(next));
             }
         }
@@ -666,11 +672,11 @@ impl EdmdEngine {
                 let j = partner as usize;
                 prefetch(&self.kin[j]);
                 prefetch(&self.angular[j]);
-                if !self.lists.is_empty() {
+                if self.uses_lists() {
                     prefetch(self.lists.head(j));
                 }
             }
-            if !self.lists.is_empty() {
+            if self.uses_lists() {
                 for entry in self.lists.of(next) {
                     prefetch(&self.kin[entry.slot() as usize]);
                 }
