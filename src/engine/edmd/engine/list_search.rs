@@ -191,11 +191,10 @@ impl EdmdEngine {
             let lowest = collision::RADIUS;
             if let Some((dt, upper)) =
                 linear_exit_time(me.position[1], me.velocity[1], lowest, w - lowest)
+                && dt < best
             {
-                if dt < best {
-                    best = dt;
-                    kind = EventKind::Wall { upper };
-                }
+                best = dt;
+                kind = EventKind::Wall { upper };
             }
         }
         if best.is_infinite() {
