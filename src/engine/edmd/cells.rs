@@ -103,10 +103,48 @@ impl Neighbourhood {
     }
 }
 
+/// The cells next to one cell along one axis, precomputed as (flat-index part, image-code part)
+/// so that a search only adds them up.
+#[derive(Clone, Copy, Debug)]
+struct AxisSteps {
+    /// the cells at offsets -1, 0, +1 that exist (fewer past a wall), in that order
+    around: [(u32, u8); 3],
+    around_count: u8,
+    /// the cell at offset -1 and at +1, if it exists
+    lower: Option<(u32, u8)>,
+    upper: Option<(u32, u8)>,
+}
+
+impl AxisSteps {
+    /// The steps from cell `c` of `axis`, whose flat index has stride `stride` and whose image
+    /// code has stride `image_stride`.
+    fn new(axis: &AxisCells, c: usize, stride: usize, image_stride: u8) -> Self {
+        let part = |dc: isize| {
+            axis.neighbour(c, dc).map(|(n, shift)| {
+                let k = 1 + (shift > 0.0) as u8 - (shift < 0.0) as u8;
+                ((n * stride) as u32, k * image_stride)
+            })
+        };
+        let mut steps = AxisSteps {
+            around: [(0, 0); 3],
+            around_count: 0,
+            lower: part(-1),
+            upper: part(1),
+        };
+        for option in [steps.lower, part(0), steps.upper].into_iter().flatten() {
+            steps.around[steps.around_count as usize] = option;
+            steps.around_count += 1;
+        }
+        steps
+    }
+}
+
 /// Cell membership of all particles.
 #[derive(Clone, Debug)]
 pub struct CellGrid {
     pub axes: [AxisCells; 3],
+    /// per axis and cell coordinate: the neighbouring cells along that axis
+    steps: [Vec<AxisSteps>; 3],
     /// first particle of each cell, or EMPTY
     head: Vec<u32>,
     /// next particle in the same cell, or EMPTY
@@ -145,8 +183,16 @@ impl CellGrid {
             cells < u32::MAX as usize,
             "{cells} cells: flat cell indices are 32-bit"
         );
+        let strides = [1, axes[0].count, axes[0].count * axes[1].count];
+        let image_strides = [1, 3, 9];
+        let steps = std::array::from_fn(|a| {
+            (0..axes[a].count)
+                .map(|c| AxisSteps::new(&axes[a], c, strides[a], image_strides[a]))
+                .collect()
+        });
         CellGrid {
             axes,
+            steps,
             head: vec![EMPTY; cells],
             next: vec![EMPTY; particles],
             prev: vec![EMPTY; particles],
@@ -186,41 +232,38 @@ impl CellGrid {
     }
 
     /// The 27 cells around flat cell `cell` (fewer past a wall).
-    #[inline]
-    pub fn around(&self, cell: usize) -> Neighbourhood {
-        self.block(self.coords(cell), [&[-1, 0, 1]; 3])
-    }
-
-    /// The 9 cells that became adjacent when a particle entered flat cell `cell` across its
-    /// upper (true) or lower face along `axis` (fewer past a wall).
-    #[inline]
-    pub fn entered(&self, cell: usize, axis: usize, upper: bool) -> Neighbourhood {
-        let mut offsets: [&[isize]; 3] = [&[-1, 0, 1]; 3];
-        offsets[axis] = if upper { &[1] } else { &[-1] };
-        self.block(self.coords(cell), offsets)
-    }
-
-    /// The cells at the given offsets per axis from cell `coords`.
     #[inline(always)]
-    fn block(&self, coords: [usize; 3], offsets: [&[isize]; 3]) -> Neighbourhood {
-        let strides = [
-            1,
-            self.axes[0].count,
-            self.axes[0].count * self.axes[1].count,
-        ];
-        let image_strides = [1, 3, 9];
+    pub fn around(&self, cell: usize) -> Neighbourhood {
+        self.around_coords(self.coords(cell))
+    }
+
+    #[inline(always)]
+    fn around_coords(&self, coords: [usize; 3]) -> Neighbourhood {
         let mut hood = Neighbourhood {
             parts: [[(0, 0); 3]; 3],
             counts: [0; 3],
         };
         for a in 0..3 {
-            for &dc in offsets[a] {
-                if let Some((c, shift)) = self.axes[a].neighbour(coords[a], dc) {
-                    let k = 1 + (shift > 0.0) as u8 - (shift < 0.0) as u8;
-                    hood.parts[a][hood.counts[a]] = ((c * strides[a]) as u32, k * image_strides[a]);
-                    hood.counts[a] += 1;
-                }
+            let steps = &self.steps[a][coords[a]];
+            hood.parts[a] = steps.around;
+            hood.counts[a] = steps.around_count as usize;
+        }
+        hood
+    }
+
+    /// The 9 cells that became adjacent when a particle entered flat cell `cell` across its
+    /// upper (true) or lower face along `axis` (fewer past a wall).
+    #[inline(always)]
+    pub fn entered(&self, cell: usize, axis: usize, upper: bool) -> Neighbourhood {
+        let coords = self.coords(cell);
+        let mut hood = self.around_coords(coords);
+        let steps = &self.steps[axis][coords[axis]];
+        match if upper { steps.upper } else { steps.lower } {
+            Some(part) => {
+                hood.parts[axis][0] = part;
+                hood.counts[axis] = 1;
             }
+            None => hood.counts[axis] = 0,
         }
         hood
     }
@@ -252,18 +295,20 @@ impl CellGrid {
         mut visit: impl FnMut(u32, Image),
     ) {
         hood.for_each(|cell, _| prefetch(&self.head[cell]));
-        let mut occupied = [(0u32, Image::SAME); 27];
+        // the occupied cells, gathered without a branch (whether a cell is empty is random)
+        let mut occupied = [(EMPTY, Image::SAME); 27];
         let mut count = 0;
         hood.for_each(|cell, image| {
             let first = self.head[cell];
-            if first != EMPTY {
-                prefetch(&self.next[first as usize]);
-                prefetch_record(first);
-                occupied[count] = (first, image);
-                count += 1;
-            }
+            occupied[count] = (first, image);
+            count += (first != EMPTY) as usize;
         });
-        for &(first, image) in &occupied[..count] {
+        let occupied = &occupied[..count];
+        for &(first, _) in occupied {
+            prefetch(&self.next[first as usize]);
+            prefetch_record(first);
+        }
+        for &(first, image) in occupied {
             let mut j = first;
             while j != EMPTY {
                 visit(j, image);

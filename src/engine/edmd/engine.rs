@@ -7,7 +7,7 @@ use super::EdmdParams;
 use super::cells::{AxisCells, CellGrid, Neighbourhood};
 use super::checkpoint::{self, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
-use super::motion::{fly, linear_exit_time, pair_contact_time_before, parabolic_exit_time};
+use super::motion::{fly, linear_exit_time, pair_contact_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::queue::{CalendarQueue, EventQueue};
 use super::search::{PartnerBatch, prefetch};
@@ -567,7 +567,8 @@ impl EdmdEngine {
                 me.velocity[1] - cj[1],
                 me.velocity[2] - cj[2],
             ];
-            if let Some(dt) = pair_contact_time_before(r, v, *best_dt) {
+            let dt = pair_contact_time_within(r, v, *best_dt);
+            if dt < *best_dt {
                 *best_dt = dt;
                 *best = PairCandidate {
                     time: self.now + dt,
