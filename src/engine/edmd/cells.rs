@@ -363,6 +363,71 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use rand_pcg::Pcg64;
 
+    /// The cells at the given offsets per axis from `coords`, each with its image, computed
+    /// directly from `AxisCells::neighbour` (the reference for the precomputed tables).
+    fn block_directly(
+        grid: &CellGrid,
+        coords: [usize; 3],
+        offsets: [&[isize]; 3],
+    ) -> Vec<(usize, Image)> {
+        let mut cells = Vec::new();
+        for &dz in offsets[2] {
+            for &dy in offsets[1] {
+                for &dx in offsets[0] {
+                    let steps = [(0, dx), (1, dy), (2, dz)]
+                        .map(|(a, d)| grid.axes[a].neighbour(coords[a], d));
+                    if let [Some(x), Some(y), Some(z)] = steps {
+                        let k =
+                            [x.1, y.1, z.1].map(|shift| (shift > 0.0) as i8 - (shift < 0.0) as i8);
+                        cells.push((grid.index([x.0, y.0, z.0]), Image::new(k)));
+                    }
+                }
+            }
+        }
+        cells
+    }
+
+    /// The neighbourhoods built from the per-axis tables, in their visiting order, are the
+    /// cells and images computed directly, for periodic and wall axes of 1 to 4 cells.
+    #[test]
+    fn neighbourhood_tables_agree_with_direct_offsets() {
+        for (counts, periodic) in [
+            ([4, 3, 2], [true, true, true]),
+            ([1, 4, 3], [true, false, true]),
+            ([2, 1, 4], [true, false, true]),
+        ] {
+            let axes = std::array::from_fn(|a| {
+                let span = counts[a] as f64;
+                AxisCells::new(0.0, span, span, periodic[a], 1.0)
+            });
+            let grid = CellGrid::new(axes, 1);
+            for cell in 0..grid.cell_count() {
+                let coords = grid.coords(cell);
+                let mut got = Vec::new();
+                grid.around(cell).for_each(|c, image| got.push((c, image)));
+                assert_eq!(
+                    got,
+                    block_directly(&grid, coords, [&[-1, 0, 1]; 3]),
+                    "around {coords:?}"
+                );
+                for axis in 0..3 {
+                    for (upper, side) in [(true, [1]), (false, [-1])] {
+                        let mut offsets: [&[isize]; 3] = [&[-1, 0, 1]; 3];
+                        offsets[axis] = &side;
+                        let mut got = Vec::new();
+                        grid.entered(cell, axis, upper)
+                            .for_each(|c, image| got.push((c, image)));
+                        assert_eq!(
+                            got,
+                            block_directly(&grid, coords, offsets),
+                            "entered {coords:?} {axis} {upper}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
     /// The linked lists hold exactly what a plain vector of member lists holds, through a
     /// random sequence of inserts, moves and removals.
     #[test]
