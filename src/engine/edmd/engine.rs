@@ -7,7 +7,7 @@ use super::EdmdParams;
 use super::cells::{AxisCells, CellGrid, Neighbourhood};
 use super::checkpoint::{self, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
-use super::motion::{fly, linear_exit_time, pair_contact_time_within, parabolic_exit_time};
+use super::motion::{fly, linear_exit_time_within, pair_contact_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::queue::{CalendarQueue, EventQueue};
 use super::search::{PartnerBatch, prefetch};
@@ -472,42 +472,44 @@ impl EdmdEngine {
         let g = self.params.gravity;
         let coords = self.cells.coords(self.cells.cell_of(i as u32));
         let axes = &self.cells.axes;
-        let mut best = f64::INFINITY;
-        let mut kind = EventKind::None;
+        // the earliest face, chosen by selects (which one it is is random): first axis on ties
+        let (mut best, mut axis, mut upper) = (f64::INFINITY, 0, false);
         for a in 0..3 {
             let (lo, hi) = axes[a].faces(coords[a]);
-            let exit = if a == 0 && g > 0.0 {
+            let (dt, up) = if a == 0 && g > 0.0 {
                 // in the drifting grid frame: xi = x - U (t - t_grid), velocity c_x - U
-                Some(parabolic_exit_time(
+                parabolic_exit_time(
                     me.position[0] - self.grid_drift * (self.now - self.grid_epoch),
                     me.velocity[0] - self.grid_drift,
                     g,
                     lo,
                     hi,
-                ))
+                )
             } else {
-                linear_exit_time(me.position[a], me.velocity[a], lo, hi)
+                linear_exit_time_within(me.position[a], me.velocity[a], lo, hi)
             };
-            if let Some((dt, upper)) = exit {
-                if dt < best {
-                    best = dt;
-                    let at_wall = !axes[a].periodic
-                        && if upper {
-                            coords[a] + 1 == axes[a].count
-                        } else {
-                            coords[a] == 0
-                        };
-                    kind = if at_wall {
-                        EventKind::Wall { upper }
-                    } else {
-                        EventKind::Cross {
-                            axis: a as u8,
-                            upper,
-                        }
-                    };
-                }
-            }
+            let earlier = dt < best;
+            best = if earlier { dt } else { best };
+            axis = if earlier { a } else { axis };
+            upper = if earlier { up } else { upper };
         }
+        if best == f64::INFINITY {
+            return (f64::INFINITY, EventKind::None);
+        }
+        let at_wall = !axes[axis].periodic
+            && if upper {
+                coords[axis] + 1 == axes[axis].count
+            } else {
+                coords[axis] == 0
+            };
+        let kind = if at_wall {
+            EventKind::Wall { upper }
+        } else {
+            EventKind::Cross {
+                axis: axis as u8,
+                upper,
+            }
+        };
         (self.now + best, kind)
     }
 
