@@ -450,19 +450,14 @@ impl EdmdEngine {
     fn choose_event(&mut self, i: usize) -> f64 {
         let (exit_time, exit_kind) = self.exit_event(i);
         let candidate = self.plan[i].candidate;
-        let (time, kind) = if candidate.time <= exit_time && candidate.partner != NO_PARTNER {
-            (
-                candidate.time,
-                EventKind::Pair {
-                    partner: candidate.partner,
-                    partner_collisions: candidate.partner_collisions,
-                },
-            )
-        } else {
-            (exit_time, exit_kind)
+        let pair = EventKind::Pair {
+            partner: candidate.partner,
+            partner_collisions: candidate.partner_collisions,
         };
-        self.plan[i].event = kind;
-        time
+        // a collision or a crossing is a coin flip: chosen by selects, not a branch
+        let collides = (candidate.time <= exit_time) & (candidate.partner != NO_PARTNER);
+        self.plan[i].event = if collides { pair } else { exit_kind };
+        if collides { candidate.time } else { exit_time }
     }
 
     /// When and how particle `i` (at `now`) leaves its cell; the outer faces of the edge cells
