@@ -90,7 +90,9 @@ pub fn pair_contact_time(r: [f64; 3], v: [f64; 3]) -> Option<f64> {
 }
 
 /// As [`pair_contact_time`], but only if the contact comes before `horizon`; avoids the square
-/// root for pairs that cannot beat it (the root satisfies t >= gap / (-2 b)).
+/// root for pairs that cannot beat it (the root satisfies t >= gap / (-2 b)). The plain,
+/// branching form: the reference that the engine's [`pair_contact_time_within`] is tested
+/// against.
 #[inline(always)]
 pub fn pair_contact_time_before(r: [f64; 3], v: [f64; 3], horizon: f64) -> Option<f64> {
     let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
@@ -192,8 +194,12 @@ mod tests {
             let horizon = match case % 4 {
                 0 => f64::INFINITY,
                 1 => rng.random::<f64>() * 2.0,
-                // exactly at the plain contact time (when there is one): the strict `<` decides
-                _ => pair_contact_time(r, v).unwrap_or(1.0) * (1.0 + (case % 3) as f64 * 1e-16),
+                // an ulp before, exactly at and an ulp after the plain contact time (when there
+                // is one): the strict `<` decides
+                _ => {
+                    let nudge = [1.0 - f64::EPSILON / 2.0, 1.0, 1.0 + f64::EPSILON][case % 3];
+                    pair_contact_time(r, v).unwrap_or(1.0) * nudge
+                }
             };
             let plain = pair_contact_time_before(r, v, horizon);
             let branch_free = pair_contact_time_within(r, v, horizon);
