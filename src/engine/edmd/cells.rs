@@ -285,8 +285,9 @@ impl CellGrid {
 
     /// Visit every member `j` of the cells of `hood`, with the image of its cell, in cell and
     /// list order, issuing the loads before any waits on another: prefetch the cells' heads;
-    /// read them, prefetching each first member's link and, through `prefetch_record`, its
-    /// record; then walk the lists (later members' records are the caller's to prefetch).
+    /// read them, keeping the occupied cells; prefetch each first member's link and, through
+    /// `prefetch_record`, its record; then walk the lists (later members' records are the
+    /// caller's to prefetch).
     #[inline(always)]
     pub fn walk(
         &self,
