@@ -7,8 +7,8 @@
 //! Along a wall axis (y in the channel) the cells cover only the reachable centre positions
 //! [a, W - a]: leaving an edge cell through its outer face is a wall collision.
 
-use super::neighbours::Image;
-use super::search::prefetch;
+use super::images::Image;
+use super::prefetch::prefetch;
 
 /// Geometry of the grid along one axis.
 #[derive(Clone, Copy, Debug, PartialEq)]

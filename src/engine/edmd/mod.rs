@@ -4,18 +4,23 @@
 //! - [`collision`]: the pure collision rules (what happens).
 //! - [`motion`]: free flight under gravity and meeting times (when it happens).
 //! - [`cells`], [`neighbours`], [`queue`]: the fast data structures (with a reference queue
-//!   for tests);
-//!   `search`: partner batches and prefetching for the neighbour search.
+//!   for tests); `images` (periodic image codes), `search` (partner batches) and `prefetch`
+//!   (cache hints) serve them.
 //! - [`setup`]: placement and initial velocities; [`checkpoint`]: the file format.
-//! - [`EdmdEngine`]: the event loop; [`reference`]: a slow all-pairs engine for tests.
+//! - [`EdmdEngine`] (`engine/`): the struct and its construction (`mod.rs`), `rebuild`,
+//!   `cell_search` and `list_search` (event prediction), `event_loop`, `collide` (what an event
+//!   does), `stall` (inelastic-collapse check), `boundary` (the [`crate::engine::Engine`]
+//!   trait); [`reference`]: a slow all-pairs engine for tests.
 
 pub mod cells;
 pub mod checkpoint;
 pub mod collision;
 mod engine;
+mod images;
 pub mod motion;
 pub mod neighbours;
 mod params;
+mod prefetch;
 pub mod queue;
 pub mod reference;
 mod search;

@@ -8,53 +8,8 @@
 //! its entries): a particle's whole list is one or two cache lines, and nothing is allocated
 //! per event. The stride doubles when a list overflows (rare; deterministic in the state).
 
-use super::search::prefetch;
-
-/// A periodic image offset per axis, each in {-1, 0, +1}, coded as one number in 0..27.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct Image(u8);
-
-impl Image {
-    /// No periodic shift.
-    pub const SAME: Image = Image(13);
-    /// Number of distinct images.
-    pub const COUNT: usize = 27;
-
-    /// The image with offsets `k` (each -1, 0 or +1) box lengths along each axis.
-    pub fn new(k: [i8; 3]) -> Self {
-        debug_assert!(k.iter().all(|v| (-1..=1).contains(v)));
-        Image(((k[0] + 1) + 3 * (k[1] + 1) + 9 * (k[2] + 1)) as u8)
-    }
-
-    /// The image with index `index` in 0..27 (see [`Image::index`]).
-    pub fn from_index(index: usize) -> Self {
-        assert!(index < Self::COUNT);
-        Image(index as u8)
-    }
-
-    /// The image with code (kx + 1) + 3 (ky + 1) + 9 (kz + 1) for offsets k in {-1, 0, 1}.
-    #[inline(always)]
-    pub(crate) fn from_code(code: u8) -> Self {
-        debug_assert!((code as usize) < Self::COUNT);
-        Image(code)
-    }
-
-    /// Offsets in box lengths along each axis.
-    pub fn offsets(self) -> [i8; 3] {
-        let c = self.0 as i8;
-        [c % 3 - 1, (c / 3) % 3 - 1, c / 9 - 1]
-    }
-
-    /// The opposite shift (seen from the partner).
-    pub fn opposite(self) -> Self {
-        Image(26 - self.0)
-    }
-
-    /// Index in 0..27 (for tables of shift vectors).
-    pub fn index(self) -> usize {
-        self.0 as usize
-    }
-}
+pub use super::images::Image;
+use super::prefetch::prefetch;
 
 /// One entry of a list: partner slot (27 bits) and the image of the partner that is near.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -7,7 +7,7 @@
 //! redistributed once a year. [`ReferenceQueue`] is the simple version (a B-tree) that tests
 //! check it against. Both pop in exactly the same order: ties in time go to the smaller index.
 
-use super::search::prefetch;
+use super::prefetch::prefetch;
 use std::collections::BTreeSet;
 
 /// The interface both queues offer.

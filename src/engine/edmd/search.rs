@@ -1,7 +1,7 @@
-//! Neighbour-search helpers: partners collected in batches, and cache prefetching, so that
-//! the memory latency of many partner records overlaps instead of adding up.
+//! Partners of a neighbour search collected in batches, so that the memory latency of many
+//! partner records overlaps instead of adding up.
 
-use super::neighbours::Image;
+use super::images::Image;
 
 /// Partners of a neighbour search collected before they are tested (see `scan_cells`), each
 /// with the periodic image in which it is near.
@@ -44,21 +44,4 @@ impl PartnerBatch {
             .copied()
             .zip(self.images[..self.len].iter().copied())
     }
-}
-
-/// Ask the CPU to start loading `record` into cache (no effect where unsupported).
-#[inline(always)]
-pub(crate) fn prefetch<T>(record: &T) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        // SAFETY: prefetching is a hint; it never faults, whatever the address, and SSE is
-        // part of the x86_64 baseline.
-        #[allow(unused_unsafe)]
-        unsafe {
-            _mm_prefetch::<_MM_HINT_T0>((record as *const T).cast::<i8>())
-        };
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = record;
 }

@@ -5,7 +5,7 @@
 
 use super::super::motion::{ball_exit_time, ball_exit_time_bound, linear_exit_time};
 use super::super::neighbours::Neighbour;
-use super::super::search::prefetch;
+use super::super::prefetch::prefetch;
 use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
 use crate::engine::edmd::EdmdParams;
 

@@ -1,0 +1,127 @@
+//! The engine boundary: the state as plain data, and the [`Engine`] trait (advance, snapshot,
+//! checkpoint).
+
+use super::*;
+
+impl EdmdEngine {
+    /// Current state as plain data (particles at their local times brought to `now`).
+    pub(super) fn state(&self) -> EngineState {
+        let g = self.params.gravity;
+        let (positions, velocities) = self
+            .by_id(&self.kin)
+            .into_iter()
+            .map(|k| fly(k.position, k.velocity, g, self.now - k.time))
+            .unzip();
+        EngineState {
+            params: self.params.clone(),
+            now: self.now,
+            positions,
+            velocities,
+            angular_velocities: self.by_id(&self.angular),
+            last_collision: self.by_id(&self.last_collision),
+            counters: self.counters,
+            wall_momentum: self.wall_momentum,
+            dissipated: self.dissipated,
+            gravity_work: self.gravity_work,
+        }
+    }
+}
+
+impl Engine for EdmdEngine {
+    fn particle_count(&self) -> usize {
+        self.kin.len()
+    }
+
+    fn progress(&self) -> Progress {
+        Progress {
+            time: self.now,
+            collisions_per_particle: self.collisions_per_particle(),
+            events: self.counters.events,
+        }
+    }
+
+    fn advance(&mut self, stop: StopAt) -> Result<(), EngineError> {
+        let window = self.stall_window();
+        let mut window_end = self.counters.events + window;
+        let mut window_start_time = self.now;
+        match stop {
+            StopAt::CollisionsPerParticle(target) => {
+                let target_pairs = (target * self.kin.len() as f64 / 2.0).ceil() as u64;
+                while self.counters.pair_collisions < target_pairs {
+                    if !self.step() {
+                        break;
+                    }
+                    if self.counters.events >= window_end {
+                        self.stall_check(window_start_time)?;
+                        window_end += window;
+                        window_start_time = self.now;
+                    }
+                }
+            }
+            StopAt::Time(t_stop) => {
+                while let Some((t, _)) = self.queue.peek() {
+                    if t > t_stop {
+                        break;
+                    }
+                    self.step();
+                    if self.counters.events >= window_end {
+                        self.stall_check(window_start_time)?;
+                        window_end += window;
+                        window_start_time = self.now;
+                    }
+                }
+                if t_stop > self.now {
+                    self.now = t_stop;
+                    self.synchronised = false;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn snapshot(&mut self) -> Snapshot {
+        self.rebuild();
+        self.synchronised = true;
+        let k_over_4 = self.params.inertia_factor / 4.0; // I = K m d^2 / 4
+        let translational_energy = self
+            .kin
+            .iter()
+            .map(|k| 0.5 * dot(k.velocity, k.velocity))
+            .sum();
+        let rotational_energy = self
+            .angular
+            .iter()
+            .map(|w| 0.5 * k_over_4 * dot(*w, *w))
+            .sum();
+        let kinematics = self.by_id(&self.kin);
+        Snapshot {
+            time: self.now,
+            collisions_per_particle: self.collisions_per_particle(),
+            geometry: self.params.geometry,
+            inertia_factor: self.params.inertia_factor,
+            gravity: self.params.gravity,
+            positions: kinematics.iter().map(|k| k.position).collect(),
+            velocities: kinematics.iter().map(|k| k.velocity).collect(),
+            angular_velocities: self.by_id(&self.angular),
+            counters: self.counters,
+            translational_energy,
+            rotational_energy,
+            wall_momentum: self.wall_momentum,
+            energy_dissipated: self.dissipated,
+            gravity_work: self.gravity_work,
+        }
+    }
+
+    fn checkpoint(&self) -> Vec<u8> {
+        assert!(
+            self.synchronised,
+            "a checkpoint is only taken directly after a snapshot"
+        );
+        checkpoint::encode(&self.state())
+    }
+}
+
+#[inline(always)]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}

@@ -1,0 +1,178 @@
+//! Event prediction with cell lists: when a particle leaves its cell or hits a wall, and the
+//! earliest pair contact among the spheres of its own and adjacent cells.
+
+use super::*;
+
+impl EdmdEngine {
+    /// Earliest event of particle `i` (whose state is at `now`) after a full search: leaving its
+    /// cell, hitting a wall, or colliding with a sphere in its own or an adjacent cell. Stores
+    /// the earliest pair collision as the particle's candidate (whatever its time) and the
+    /// earliest event as its event; returns the event time (infinite when nothing can happen).
+    pub(super) fn predict(&mut self, i: usize) -> f64 {
+        if self.uses_lists() {
+            return self.predict_from_list(i);
+        }
+        let around = self.cells.around(self.cells.cell_of(i as u32));
+        self.plan[i].candidate = self.scan_cells(i, &around, f64::INFINITY);
+        self.choose_event(i)
+    }
+
+    /// Event of particle `i` right after it crossed into a new cell along `axis`: its velocity
+    /// is unchanged, so the pair candidate of its last full search still holds if the partner
+    /// has not collided since; only the layer of cells that just became adjacent is searched.
+    pub(super) fn predict_after_crossing(&mut self, i: usize, axis: usize, upper: bool) -> f64 {
+        let candidate = self.plan[i].candidate;
+        let still_valid = match candidate.partner {
+            NO_PARTNER => true,
+            j => self.kin[j as usize].collisions == candidate.partner_collisions,
+        };
+        if !still_valid {
+            return self.predict(i);
+        }
+        let entered = self
+            .cells
+            .entered(self.cells.cell_of(i as u32), axis, upper);
+        let found = self.scan_cells(i, &entered, candidate.time);
+        if found.time < candidate.time {
+            self.plan[i].candidate = found;
+        }
+        self.choose_event(i)
+    }
+
+    /// The earlier of particle `i`'s cell exit (or wall hit) and its pair candidate: stored as
+    /// its event, time returned.
+    pub(super) fn choose_event(&mut self, i: usize) -> f64 {
+        let (exit_time, exit_kind) = self.exit_event(i);
+        let candidate = self.plan[i].candidate;
+        let pair = EventKind::Pair {
+            partner: candidate.partner,
+            partner_collisions: candidate.partner_collisions,
+        };
+        // a collision or a crossing is a coin flip: chosen by selects, not a branch
+        let collides = (candidate.time <= exit_time) & (candidate.partner != NO_PARTNER);
+        self.plan[i].event = if collides { pair } else { exit_kind };
+        if collides { candidate.time } else { exit_time }
+    }
+
+    /// When and how particle `i` (at `now`) leaves its cell; the outer faces of the edge cells
+    /// along a wall axis are the walls. Along x the faces move with the drifting grid.
+    pub(super) fn exit_event(&self, i: usize) -> (f64, EventKind) {
+        let me = &self.kin[i];
+        let g = self.params.gravity;
+        let coords = self.cells.coords(self.cells.cell_of(i as u32));
+        let axes = &self.cells.axes;
+        // the earliest face, chosen by selects (which one it is is random): first axis on ties
+        let (mut best, mut axis, mut upper) = (f64::INFINITY, 0, false);
+        for a in 0..3 {
+            let (lo, hi) = axes[a].faces(coords[a]);
+            let (dt, up) = if a == 0 && g > 0.0 {
+                // in the drifting grid frame: xi = x - U (t - t_grid), velocity c_x - U
+                parabolic_exit_time(
+                    me.position[0] - self.grid_drift * (self.now - self.grid_epoch),
+                    me.velocity[0] - self.grid_drift,
+                    g,
+                    lo,
+                    hi,
+                )
+            } else {
+                linear_exit_time_within(me.position[a], me.velocity[a], lo, hi)
+            };
+            let earlier = dt < best;
+            best = if earlier { dt } else { best };
+            axis = if earlier { a } else { axis };
+            upper = if earlier { up } else { upper };
+        }
+        if best == f64::INFINITY {
+            return (f64::INFINITY, EventKind::None);
+        }
+        let at_wall = !axes[axis].periodic
+            && if upper {
+                coords[axis] + 1 == axes[axis].count
+            } else {
+                coords[axis] == 0
+            };
+        let kind = if at_wall {
+            EventKind::Wall { upper }
+        } else {
+            EventKind::Cross {
+                axis: axis as u8,
+                upper,
+            }
+        };
+        (self.now + best, kind)
+    }
+
+    /// Earliest collision of particle `i` (at `now`) before `horizon` with a sphere in the
+    /// cells of `hood`.
+    ///
+    /// Memory latency is what limits this search, so it runs in three passes whose loads do
+    /// not wait on each other: prefetch the cells' heads; read them and prefetch each first
+    /// member's record and link; walk the lists, collecting partners in batches (prefetching
+    /// later members' records) and testing each full batch.
+    pub(super) fn scan_cells(&self, i: usize, hood: &Neighbourhood, horizon: f64) -> PairCandidate {
+        let mut best = PairCandidate::NONE;
+        let mut best_dt = horizon - self.now;
+        let mut batch = PartnerBatch::new();
+        self.cells.walk(
+            hood,
+            |first| prefetch(&self.kin[first as usize]),
+            |j, image| {
+                if j as usize == i {
+                    return;
+                }
+                prefetch(&self.kin[j as usize]);
+                if batch.push(j, image) {
+                    self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
+                    batch.clear();
+                }
+            },
+        );
+        self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
+        best
+    }
+
+    /// Update `best` (contact before `now + best_dt`) with the given partners of particle `i`,
+    /// each in its periodic image.
+    #[inline(always)]
+    pub(super) fn earliest_among(
+        &self,
+        i: usize,
+        partners: impl Iterator<Item = (u32, Image)>,
+        best: &mut PairCandidate,
+        best_dt: &mut f64,
+    ) {
+        let me = &self.kin[i];
+        let g = self.params.gravity;
+        for (j, image) in partners {
+            let other = &self.kin[j as usize];
+            let shift = &self.image_shifts[image.index()];
+            // partner brought to `now` on the fly (its stored state is not touched)
+            let (rj, cj) = fly(other.position, other.velocity, g, self.now - other.time);
+            let r = [
+                me.position[0] - (rj[0] + shift[0]),
+                me.position[1] - (rj[1] + shift[1]),
+                me.position[2] - (rj[2] + shift[2]),
+            ];
+            let v = [
+                me.velocity[0] - cj[0],
+                me.velocity[1] - cj[1],
+                me.velocity[2] - cj[2],
+            ];
+            let dt = pair_contact_time_within(r, v, *best_dt);
+            if dt < *best_dt {
+                *best_dt = dt;
+                *best = PairCandidate {
+                    time: self.now + dt,
+                    partner: j,
+                    partner_collisions: other.collisions,
+                };
+            }
+        }
+    }
+
+    /// True with neighbour-list search (else cells).
+    #[inline(always)]
+    pub(super) fn uses_lists(&self) -> bool {
+        matches!(self.search, NeighbourSearch::Lists { .. })
+    }
+}

@@ -1,0 +1,122 @@
+//! Processing events: cell crossings, pair collisions (with the TC model) and wall collisions.
+
+use super::*;
+
+impl EdmdEngine {
+    /// Move particle `i` into the next cell along `axis`, wrapping across the periodic seam.
+    pub(super) fn cross_cell(&mut self, i: usize, axis: usize, upper: bool) {
+        self.counters.cell_crossings += 1;
+        let cell = self.cells.cell_of(i as u32);
+        let mut coords = self.cells.coords(cell);
+        let ax = self.cells.axes[axis];
+        let (next, shift) = ax
+            .neighbour(coords[axis], if upper { 1 } else { -1 })
+            .expect("crossing stays in the box");
+        // a wrapped neighbour carries the shift that brings it next to the old cell; the
+        // particle itself moves the opposite way
+        self.kin[i].position[axis] -= shift;
+        coords[axis] = next;
+        let flat = self.cells.index(coords);
+        self.cells.relocate(i as u32, flat);
+    }
+
+    /// Minimum-image separation r_i - r_j of two particles at the same time.
+    pub(super) fn separation(&self, i: usize, j: usize) -> Vector3<f64> {
+        let g = &self.params.geometry;
+        let ext = g.extents();
+        let mut r = [0.0; 3];
+        for a in 0..3 {
+            let mut d = self.kin[i].position[a] - self.kin[j].position[a];
+            if a != 1 || !g.walls {
+                if d > 0.5 * ext[a] {
+                    d -= ext[a];
+                } else if d < -0.5 * ext[a] {
+                    d += ext[a];
+                }
+            }
+            r[a] = d;
+        }
+        Vector3::from(r)
+    }
+
+    /// Pair collision of i and j (both at `now`), with the TC model.
+    pub(super) fn collide_pair(&mut self, i: usize, j: usize) {
+        let t = self.now;
+        let r = self.separation(i, j);
+        let k = -r / r.norm(); // unit vector from i to j
+        let tc = self.params.tc;
+        let tc_elastic =
+            tc > 0.0 && (t - self.last_collision[i] < tc || t - self.last_collision[j] < tc);
+        let law = if tc_elastic {
+            self.counters.tc_elastic_collisions += 1;
+            ContactLaw {
+                restitution: 1.0,
+                ..self.pair_law
+            }
+        } else {
+            self.pair_law
+        };
+        let first = SphereVelocity {
+            linear: self.kin[i].velocity.into(),
+            angular: self.angular[i].into(),
+        };
+        let second = SphereVelocity {
+            linear: self.kin[j].velocity.into(),
+            angular: self.angular[j].into(),
+        };
+        let out = collision::pair_collision(&first, &second, &k, &law);
+        self.kin[i].velocity = out.first.linear.into();
+        self.kin[j].velocity = out.second.linear.into();
+        self.angular[i] = out.first.angular.into();
+        self.angular[j] = out.second.angular.into();
+        self.kin[i].collisions += 1;
+        self.kin[j].collisions += 1;
+        self.last_collision[i] = t;
+        self.last_collision[j] = t;
+        self.dissipated += out.dissipated;
+        self.counters.pair_collisions += 1;
+        if let Some(log) = &mut self.log {
+            let (a, b) = (self.ids[i], self.ids[j]);
+            log.push(PhysicalEvent::Pair {
+                time: t,
+                first: a.min(b),
+                second: a.max(b),
+            });
+        }
+    }
+
+    /// Collision of particle i with the wall at y = W (upper) or y = 0.
+    pub(super) fn collide_wall(&mut self, i: usize, upper: bool) {
+        let w = self.params.geometry.width;
+        // at contact the centre is a from the wall; round-off never lets it sink in
+        let y = &mut self.kin[i].position[1];
+        *y = if upper {
+            y.min(w - collision::RADIUS)
+        } else {
+            y.max(collision::RADIUS)
+        };
+        let k = Vector3::new(0.0, if upper { 1.0 } else { -1.0 }, 0.0);
+        let sphere = SphereVelocity {
+            linear: self.kin[i].velocity.into(),
+            angular: self.angular[i].into(),
+        };
+        let out = collision::wall_collision(&sphere, &k, &self.wall_law);
+        self.kin[i].velocity = out.sphere.linear.into();
+        self.angular[i] = out.sphere.angular.into();
+        self.kin[i].collisions += 1;
+        self.last_collision[i] = self.now;
+        let side = &mut self.wall_momentum[upper as usize];
+        for a in 0..3 {
+            side[a] += out.impulse[a];
+        }
+        self.dissipated += out.dissipated;
+        self.counters.wall_collisions += 1;
+        if let Some(log) = &mut self.log {
+            log.push(PhysicalEvent::Wall {
+                time: self.now,
+                particle: self.ids[i],
+                upper,
+            });
+        }
+    }
+}

@@ -1,0 +1,106 @@
+//! The event loop: scheduling, taking the earliest event from the calendar, dispatching it, and
+//! prefetching what the next event will read.
+
+use super::*;
+
+impl EdmdEngine {
+    /// Predict and schedule the next event of particle `i`.
+    #[inline]
+    pub(super) fn reschedule(&mut self, i: usize) {
+        let t = self.predict(i);
+        self.schedule(i, t);
+    }
+
+    #[inline]
+    pub(super) fn schedule(&mut self, i: usize, t: f64) {
+        if t.is_finite() {
+            self.queue.schedule(i as u32, t);
+        } else {
+            self.queue.cancel(i as u32);
+        }
+    }
+
+    /// Process the earliest event. Returns false when no event is left.
+    pub(super) fn step(&mut self) -> bool {
+        let Some((t, id)) = self.queue.pop() else {
+            return false;
+        };
+        let i = id as usize;
+        // the following event is most likely the queue's next one: start loading its records
+        // now, so that they are in cache when it is processed
+        if let Some((_, next)) = self.queue.peek() {
+            let next = next as usize;
+            prefetch(&self.kin[next]);
+            prefetch(&self.plan[next]);
+            prefetch(&self.angular[next]);
+            if self.uses_lists() {
+                prefetch(self.lists.head(next));
+            }
+        }
+        self.now = t;
+        self.counters.events += 1;
+        if self.counters.events == self.next_rebuild {
+            // the popped event is re-predicted by the rebuild, together with all others
+            self.rebuild();
+            return true;
+        }
+        self.synchronised = false;
+        self.advance_particle(i, t);
+        match self.plan[i].event {
+            EventKind::Pair {
+                partner,
+                partner_collisions,
+            } => {
+                let j = partner as usize;
+                if self.kin[j].collisions == partner_collisions {
+                    self.advance_particle(j, t);
+                    self.collide_pair(i, j);
+                    self.reschedule(i);
+                    self.reschedule(j);
+                } else {
+                    self.reschedule(i);
+                }
+            }
+            EventKind::Cross { axis, upper } => {
+                self.cross_cell(i, axis as usize, upper);
+                let t = self.predict_after_crossing(i, axis as usize, upper);
+                self.schedule(i, t);
+            }
+            EventKind::Wall { upper } => {
+                self.collide_wall(i, upper);
+                self.reschedule(i);
+            }
+            EventKind::Renew => {
+                self.renew_list(i);
+                self.reschedule(i);
+            }
+            EventKind::None => unreachable!("a particle without event was scheduled"),
+        }
+        self.prefetch_partner_of_next_event();
+        true
+    }
+
+    /// The next event's own records were prefetched when this step began; by now its plan (and
+    /// neighbour list) has arrived, so what they name can be loaded too: the partner of a
+    /// collision (its counter and velocities are read at once, its list next) and the
+    /// neighbours that the particle's next prediction will test.
+    #[inline(always)]
+    pub(super) fn prefetch_partner_of_next_event(&mut self) {
+        if let Some((_, next)) = self.queue.peek() {
+            let next = next as usize;
+            if let EventKind::Pair { partner, .. } = self.plan[next].event {
+                let j = partner as usize;
+                prefetch(&self.kin[j]);
+                prefetch(&self.angular[j]);
+                if self.uses_lists() {
+                    prefetch(self.lists.head(j));
+                }
+            }
+            if self.uses_lists() {
+                for entry in self.lists.of(next) {
+                    prefetch(&self.kin[entry.slot() as usize]);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,343 @@
+//! The event-driven engine: one scheduled event per particle (validated by collision
+//! counters), a calendar queue, cell lists, and per-particle local times (delayed update,
+//! Lubachevsky 1991): a particle's state is only brought forward when one of its own events
+//! is processed.
+
+use super::EdmdParams;
+use super::cells::{AxisCells, CellGrid, Neighbourhood};
+use super::checkpoint::{self, EngineState};
+use super::collision::{self, ContactLaw, SphereVelocity};
+use super::motion::{fly, linear_exit_time_within, pair_contact_time_within, parabolic_exit_time};
+use super::neighbours::{Image, Neighbour, NeighbourLists};
+use super::prefetch::prefetch;
+use super::queue::{CalendarQueue, EventQueue};
+use super::search::PartnerBatch;
+use super::setup;
+use crate::engine::{Counters, Engine, EngineError, Progress, Snapshot, StopAt};
+use nalgebra::Vector3;
+
+mod boundary;
+mod cell_search;
+mod collide;
+mod event_loop;
+mod list_search;
+mod rebuild;
+mod stall;
+
+pub use list_search::NeighbourSearch;
+
+/// Cell side is at least d times this factor (> 1 so that round-off at cell faces never hides
+/// a partner).
+const CELL_MARGIN: f64 = 1.0 + 1e-9;
+
+/// The engine rebuilds its cells, events and calendar every this many events per particle
+/// (at event counts that are multiples of it: deterministic points of the run), so that the
+/// grid follows the mean flow and the calendar follows the event rate.
+const REBUILD_EVENTS_PER_PARTICLE: u64 = 50;
+
+/// Kinematic state of one particle at its own local time: the data read when other particles
+/// look for collision partners, packed into one 64-byte cache line.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(64))]
+pub(crate) struct Kinematics {
+    /// r, centre at `time`
+    pub position: [f64; 3],
+    /// c, velocity at `time`
+    pub velocity: [f64; 3],
+    /// local time of this state
+    pub time: f64,
+    /// number of velocity changes (collisions) since the last rebuild; validates events
+    pub collisions: u32,
+}
+
+/// What a particle's scheduled event is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum EventKind {
+    /// nothing can happen (at rest without gravity)
+    None,
+    /// collision with `partner`, valid while the partner's collision counter still equals
+    /// `partner_collisions`
+    Pair {
+        partner: u32,
+        partner_collisions: u32,
+    },
+    /// leaves its cell along `axis` through the upper (true) or lower face
+    Cross { axis: u8, upper: bool },
+    /// hits the wall at y = W (true) or y = 0
+    Wall { upper: bool },
+    /// may have moved skin/2 from its neighbour list's centre: renews the list (list search)
+    Renew,
+}
+
+/// The earliest pair collision found by a particle's last full neighbour search (kept while
+/// the particle only crosses cells, so that a crossing needs to search only the new cells).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PairCandidate {
+    /// absolute time of the contact (infinite: none)
+    pub time: f64,
+    /// partner, or NO_PARTNER
+    pub partner: u32,
+    /// partner's collision counter when the candidate was found
+    pub partner_collisions: u32,
+}
+
+const NO_PARTNER: u32 = u32::MAX;
+
+impl PairCandidate {
+    const NONE: PairCandidate = PairCandidate {
+        time: f64::INFINITY,
+        partner: NO_PARTNER,
+        partner_collisions: 0,
+    };
+}
+
+/// What a particle will do next and the best pair found by its last full neighbour search.
+#[derive(Clone, Copy, Debug)]
+struct Plan {
+    /// the scheduled event
+    event: EventKind,
+    /// earliest pair collision of the last full neighbour search (kept while the particle
+    /// only crosses cells)
+    candidate: PairCandidate,
+}
+
+impl Plan {
+    const NONE: Plan = Plan {
+        event: EventKind::None,
+        candidate: PairCandidate::NONE,
+    };
+}
+
+/// A physical event as processed (for tests that compare engines event by event).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PhysicalEvent {
+    Pair {
+        time: f64,
+        first: u32,
+        second: u32,
+    },
+    Wall {
+        time: f64,
+        particle: u32,
+        upper: bool,
+    },
+}
+
+/// Event-driven engine for rough inelastic hard spheres.
+pub struct EdmdEngine {
+    params: EdmdParams,
+    /// particle-particle contact law (e, beta, K)
+    pair_law: ContactLaw,
+    /// particle-wall contact law (e_w, beta_w, K)
+    wall_law: ContactLaw,
+    /// current simulated time (time of the last event, or of the last stop)
+    now: f64,
+    kin: Vec<Kinematics>,
+    /// particle id of each storage slot (slots are re-sorted by cell at every rebuild)
+    ids: Vec<u32>,
+    /// w, angular velocities (constant between collisions)
+    angular: Vec<[f64; 3]>,
+    /// time of each particle's last collision (pair or wall), for the TC model
+    last_collision: Vec<f64>,
+    /// scheduled event and pair candidate of each particle (one record: one cache miss)
+    plan: Vec<Plan>,
+    queue: CalendarQueue,
+    /// how partners are found: cell lists, or neighbour lists (then the cells hold anchors)
+    search: NeighbourSearch,
+    /// symmetric neighbour lists (list search only)
+    lists: NeighbourLists,
+    /// centre of each particle's neighbour list, in the grid frame (list search only)
+    anchors: Vec<[f64; 3]>,
+    /// neighbours found by a list renewal (reused: no allocation per event)
+    scratch: Vec<Neighbour>,
+    /// shift vector of each periodic image (box lengths along the periodic axes)
+    image_shifts: [[f64; 3]; Image::COUNT],
+    cells: CellGrid,
+    /// U, velocity along x of the cell grid: the grid drifts with the mean flow so that the
+    /// fast flow of a channel does not turn into a stream of cell crossings. A particle's
+    /// grid-frame coordinate is xi = x - U (t - t_grid).
+    grid_drift: f64,
+    /// t_grid, time at which the drifting grid frame coincides with the box frame
+    grid_epoch: f64,
+    /// event count of the next periodic rebuild
+    next_rebuild: u64,
+    counters: Counters,
+    /// cumulative impulse delivered to the wall at y = 0 and at y = W
+    wall_momentum: [[f64; 3]; 2],
+    /// cumulative kinetic energy dissipated in collisions
+    dissipated: f64,
+    /// cumulative work of gravity, m g sum of x-displacements
+    gravity_work: f64,
+    /// true directly after a snapshot: the state is synchronised and a checkpoint is valid
+    synchronised: bool,
+    /// physical events, when recording is switched on (tests)
+    log: Option<Vec<PhysicalEvent>>,
+}
+
+impl EdmdEngine {
+    /// A fresh run: place spheres, draw velocities, schedule all events. The neighbour search
+    /// is chosen from the parameters ([`NeighbourSearch::automatic`]).
+    pub fn new(params: EdmdParams) -> Result<Self, EngineError> {
+        let search = NeighbourSearch::automatic(&params);
+        Self::with_search(params, search)
+    }
+
+    /// A fresh run with the given neighbour search (for tests and benchmarks).
+    pub fn with_search(params: EdmdParams, search: NeighbourSearch) -> Result<Self, EngineError> {
+        params.validate()?;
+        search.validate()?;
+        let start = setup::initial_state(&params)?;
+        let n = params.particles;
+        let state = EngineState {
+            params,
+            now: 0.0,
+            positions: start.positions,
+            velocities: start.velocities,
+            angular_velocities: start.angular_velocities,
+            last_collision: vec![f64::NEG_INFINITY; n],
+            counters: Counters::default(),
+            wall_momentum: [[0.0; 3]; 2],
+            dissipated: 0.0,
+            gravity_work: 0.0,
+        };
+        Ok(Self::from_state(state, search))
+    }
+
+    /// Rebuild an engine from checkpoint bytes (see [`checkpoint`]).
+    pub fn restore(bytes: &[u8]) -> Result<Self, EngineError> {
+        let state = checkpoint::decode(bytes)?;
+        state.params.validate()?;
+        let search = NeighbourSearch::automatic(&state.params);
+        Ok(Self::from_state(state, search))
+    }
+
+    /// As [`EdmdEngine::restore`], with the given neighbour search (for tests).
+    pub fn restore_with_search(bytes: &[u8], search: NeighbourSearch) -> Result<Self, EngineError> {
+        let state = checkpoint::decode(bytes)?;
+        state.params.validate()?;
+        search.validate()?;
+        Ok(Self::from_state(state, search))
+    }
+
+    fn from_state(state: EngineState, search: NeighbourSearch) -> Self {
+        let p = &state.params;
+        let g = p.geometry;
+        let n = p.particles;
+        let side = CELL_MARGIN * search.reach();
+        let axes = [
+            AxisCells::new(0.0, g.length, g.length, true, side),
+            if g.walls {
+                AxisCells::new(
+                    collision::RADIUS,
+                    g.width - 2.0 * collision::RADIUS,
+                    g.width,
+                    false,
+                    side,
+                )
+            } else {
+                AxisCells::new(0.0, g.width, g.width, true, side)
+            },
+            AxisCells::new(0.0, g.height, g.height, true, side),
+        ];
+        let ext = g.extents();
+        let periodic = [true, !g.walls, true];
+        let image_shifts = std::array::from_fn(|index| {
+            let k = Image::from_index(index).offsets();
+            std::array::from_fn(|a| {
+                if periodic[a] {
+                    k[a] as f64 * ext[a]
+                } else {
+                    0.0
+                }
+            })
+        });
+        let kin = (0..n)
+            .map(|i| Kinematics {
+                position: state.positions[i],
+                velocity: state.velocities[i],
+                time: state.now,
+                collisions: 0,
+            })
+            .collect();
+        let mut engine = EdmdEngine {
+            pair_law: ContactLaw {
+                restitution: p.restitution,
+                roughness: p.roughness,
+                inertia_factor: p.inertia_factor,
+            },
+            wall_law: ContactLaw {
+                restitution: p.wall_restitution,
+                roughness: p.wall_roughness,
+                inertia_factor: p.inertia_factor,
+            },
+            now: state.now,
+            kin,
+            ids: (0..n as u32).collect(),
+            angular: state.angular_velocities,
+            last_collision: state.last_collision,
+            plan: vec![Plan::NONE; n],
+            queue: CalendarQueue::new(n, 1, 1.0, state.now),
+            search,
+            lists: NeighbourLists::new(match search {
+                NeighbourSearch::Cells => 0,
+                NeighbourSearch::Lists { .. } => n,
+            }),
+            anchors: Vec::new(),
+            scratch: Vec::new(),
+            image_shifts,
+            cells: CellGrid::new(axes, n),
+            grid_drift: 0.0,
+            grid_epoch: state.now,
+            next_rebuild: 0,
+            counters: state.counters,
+            wall_momentum: state.wall_momentum,
+            dissipated: state.dissipated,
+            gravity_work: state.gravity_work,
+            synchronised: true,
+            log: None,
+            params: state.params,
+        };
+        engine.rebuild();
+        engine
+    }
+
+    /// Record every physical event from now on (for tests; costs memory).
+    pub fn record_events(&mut self) {
+        self.log = Some(Vec::new());
+    }
+
+    /// The physical events recorded so far.
+    pub fn recorded_events(&self) -> &[PhysicalEvent] {
+        self.log.as_deref().unwrap_or(&[])
+    }
+
+    /// The parameters of this run.
+    pub fn params(&self) -> &EdmdParams {
+        &self.params
+    }
+
+    /// Bytes of memory per particle held by the engine's data structures.
+    pub fn bytes_per_particle(&self) -> f64 {
+        let n = self.kin.len().max(1);
+        let per = std::mem::size_of::<Kinematics>()
+            + std::mem::size_of::<[f64; 3]>()
+            + std::mem::size_of::<f64>()
+            + std::mem::size_of::<Plan>()
+            + std::mem::size_of::<u32>()
+            + self.queue.bytes_per_particle();
+        let lists = self.lists.bytes() + std::mem::size_of_val(self.anchors.as_slice());
+        (per * n + self.cells.bytes() + lists) as f64 / n as f64
+    }
+    fn collisions_per_particle(&self) -> f64 {
+        2.0 * self.counters.pair_collisions as f64 / self.kin.len() as f64
+    }
+
+    /// Per-slot data rearranged by particle id (the order of snapshots and checkpoints).
+    fn by_id<T: Copy + Default>(&self, per_slot: &[T]) -> Vec<T> {
+        let mut out = vec![T::default(); per_slot.len()];
+        for (slot, &id) in self.ids.iter().enumerate() {
+            out[id as usize] = per_slot[slot];
+        }
+        out
+    }
+}
