@@ -12,7 +12,7 @@ use granflow::analysis::{
     AnalysisSettings, JobAnalysis, SnapshotRecord, analyse_job, plane_fields, record_snapshot,
     steady, write_vtk_density, write_xyz,
 };
-use granflow::engine::{BoxGeometry, Counters, Snapshot};
+use granflow::engine::{BoxGeometry, Content, Counters, Particles, Progress, Snapshot};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use std::f64::consts::PI;
@@ -36,20 +36,26 @@ fn n_for(g: &BoxGeometry) -> usize {
 fn snapshot(g: BoxGeometry, positions: Vec<[f64; 3]>, cpp: f64) -> Snapshot {
     let n = positions.len();
     Snapshot {
-        time: cpp,
-        collisions_per_particle: cpp,
-        geometry: g,
-        inertia_factor: 0.4,
-        gravity: 1.0,
-        positions,
-        velocities: vec![[0.0; 3]; n],
-        angular_velocities: vec![[0.0; 3]; n],
+        progress: Progress {
+            time: cpp,
+            collisions_per_particle: cpp,
+            steps: 0,
+            events: 0,
+        },
         counters: Counters::default(),
-        translational_energy: n as f64,
-        rotational_energy: 0.1 * n as f64,
-        wall_momentum: [[0.0; 3]; 2],
-        energy_dissipated: 0.0,
-        gravity_work: 0.0,
+        content: Content::Particles(Particles {
+            geometry: g,
+            inertia_factor: 0.4,
+            gravity: 1.0,
+            positions,
+            velocities: vec![[0.0; 3]; n],
+            angular_velocities: vec![[0.0; 3]; n],
+            translational_energy: n as f64,
+            rotational_energy: 0.1 * n as f64,
+            wall_momentum: [[0.0; 3]; 2],
+            energy_dissipated: 0.0,
+            gravity_work: 0.0,
+        }),
     }
 }
 
@@ -636,7 +642,7 @@ fn degenerate_input_is_not_steady_and_does_not_panic() {
                 sample(&g, 4584, &band(g, 1), &mut rng),
                 100.0 * (i + 1) as f64,
             );
-            s.translational_energy *= (i + 1) as f64;
+            s.particles_mut().unwrap().translational_energy *= (i + 1) as f64;
             record_snapshot(&s, &settings)
         })
         .collect();
@@ -677,12 +683,12 @@ fn profiles_recover_known_fields() {
         for p in 0..n {
             let [x, y, _] = pos[p];
             let wave = 0.3 * (2.0 * PI * x / g.length).sin();
-            snap.velocities[p] = [
+            snap.particles_mut().unwrap().velocities[p] = [
                 1.0 + y + wave + t0.sqrt() * normal(&mut rng),
                 t0.sqrt() * normal(&mut rng),
                 t0.sqrt() * normal(&mut rng),
             ];
-            snap.angular_velocities[p] = [
+            snap.particles_mut().unwrap().angular_velocities[p] = [
                 omega_sd * normal(&mut rng),
                 omega_sd * normal(&mut rng),
                 -0.5 + omega_sd * normal(&mut rng),
@@ -736,7 +742,7 @@ fn slip_velocity_uses_the_outermost_filled_bins() {
     let settings = AnalysisSettings::default();
     let pos = sample(&g, 4000, &|_, _, _| 1.0, &mut rng);
     let mut snap = snapshot(g, pos.clone(), 10.0);
-    for (v, r) in snap.velocities.iter_mut().zip(&pos) {
+    for (v, r) in snap.particles_mut().unwrap().velocities.iter_mut().zip(&pos) {
         v[0] = r[1];
     }
     let a = analyse_job(&[record_snapshot(&snap, &settings)], &settings);
@@ -809,15 +815,15 @@ fn cellwise_fields_of_known_cells() {
         [6.0, 6.0, 6.0],
     ];
     let mut snap = snapshot(g, pos, 1.0);
-    snap.velocities = vec![
+    snap.particles_mut().unwrap().velocities = vec![
         [1.0, 0.0, 0.0],
         [2.0, 0.0, 0.0],
         [3.0, 3.0, 0.0],
         [5.0, 5.0, 5.0],
     ];
-    snap.angular_velocities = vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 0.0, 0.0], [1.0; 3]];
+    snap.particles_mut().unwrap().angular_velocities = vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 0.0, 0.0], [1.0; 3]];
     let grid = Grid::new(&g, 4, &settings);
-    let f = granflow::analysis::fields::Fields::compute(&snap, &grid);
+    let f = granflow::analysis::fields::Fields::compute(snap.particles().unwrap(), &grid);
     let c0 = grid.linear([0, 0, 0]);
     let c1 = grid.linear([1, 1, 1]);
     assert_eq!((f.count[c0], f.count[c1]), (3, 1));
@@ -842,9 +848,9 @@ fn xyz_and_vtk_files_parse_back() {
     let mut rng = Pcg64::seed_from_u64(4);
     let pos = sample(&g, 200, &|_, _, _| 1.0, &mut rng);
     let mut snap = snapshot(g, pos, 5.0);
-    for p in 0..snap.len() {
-        snap.velocities[p] = [rng.random::<f64>(), -rng.random::<f64>(), 0.5];
-        snap.angular_velocities[p] = [0.1, rng.random::<f64>(), -2.0];
+    for p in 0..snap.particles().unwrap().len() {
+        snap.particles_mut().unwrap().velocities[p] = [rng.random::<f64>(), -rng.random::<f64>(), 0.5];
+        snap.particles_mut().unwrap().angular_velocities[p] = [0.1, rng.random::<f64>(), -2.0];
     }
     let dir = std::env::temp_dir().join(format!("granflow-analysis-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -852,23 +858,24 @@ fn xyz_and_vtk_files_parse_back() {
     write_xyz(&xyz, &snap).unwrap();
     let text = std::fs::read_to_string(&xyz).unwrap();
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines[0].trim().parse::<usize>().unwrap(), snap.len());
+    assert_eq!(lines[0].trim().parse::<usize>().unwrap(), snap.particles().unwrap().len());
     assert!(
         lines[1].contains("Lattice=\"12 0 0 0 10 0 0 0 8\""),
         "{}",
         lines[1]
     );
     assert!(lines[1].contains("Properties=pos:R:3:velo:R:3:omega:R:3:radius:R:1"));
-    assert_eq!(lines.len(), snap.len() + 2);
+    assert_eq!(lines.len(), snap.particles().unwrap().len() + 2);
     for (p, line) in lines[2..].iter().enumerate() {
         let v: Vec<f64> = line
             .split_whitespace()
             .map(|t| t.parse().unwrap())
             .collect();
         assert_eq!(v.len(), 10);
-        assert_eq!(&v[0..3], &snap.positions[p]);
-        assert_eq!(&v[3..6], &snap.velocities[p]);
-        assert_eq!(&v[6..9], &snap.angular_velocities[p]);
+        let s = snap.particles().unwrap();
+        assert_eq!(&v[0..3], &s.positions[p]);
+        assert_eq!(&v[3..6], &s.velocities[p]);
+        assert_eq!(&v[6..9], &s.angular_velocities[p]);
         assert_eq!(v[9], 0.5);
     }
     let settings = AnalysisSettings {
@@ -887,12 +894,12 @@ fn xyz_and_vtk_files_parse_back() {
     assert_eq!(lines[8], "SCALARS phi double 1");
     let phi: Vec<f64> = lines[10..34].iter().map(|t| t.parse().unwrap()).collect();
     // the volume fraction integrates back to N spheres over the gridded region
-    let grid = Grid::new(&g, snap.len(), &settings);
+    let grid = Grid::new(&g, snap.particles().unwrap().len(), &settings);
     let cell = grid.volume() / 24.0;
     let spheres: f64 = phi.iter().map(|v| v * cell / (PI / 6.0)).sum();
-    assert!((spheres - snap.len() as f64).abs() < 1e-9, "{spheres}");
+    assert!((spheres - snap.particles().unwrap().len() as f64).abs() < 1e-9, "{spheres}");
     // x varies fastest: the first entries are the cells (i, 0, 0)
-    let counts = granflow::analysis::fields::cell_counts(&snap.positions, &grid);
+    let counts = granflow::analysis::fields::cell_counts(&snap.particles().unwrap().positions, &grid);
     for i in 0..3 {
         let expect = counts[grid.linear([i, 0, 0])] as f64 * (PI / 6.0) / cell;
         assert!((phi[i] - expect).abs() < 1e-12);

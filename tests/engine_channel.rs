@@ -8,18 +8,22 @@
 //!   small, so the check has teeth).
 
 use granflow::engine::edmd::{EdmdEngine, EdmdParams};
-use granflow::engine::{Engine, Snapshot, StopAt};
+use granflow::engine::{Engine, Particles, Snapshot, StopAt};
+
+fn p(s: &Snapshot) -> &Particles {
+    s.particles().expect("EDMD snapshots carry particles")
+}
 
 fn momentum_x(s: &Snapshot) -> f64 {
-    s.velocities.iter().map(|v| v[0]).sum()
+    p(s).velocities.iter().map(|v| v[0]).sum()
 }
 
 fn wall_impulse_x(s: &Snapshot) -> f64 {
-    s.wall_momentum[0][0] + s.wall_momentum[1][0]
+    p(s).wall_momentum[0][0] + p(s).wall_momentum[1][0]
 }
 
 fn kinetic_energy(s: &Snapshot) -> f64 {
-    s.translational_energy + s.rotational_energy
+    p(s).translational_energy + p(s).rotational_energy
 }
 
 /// Mean and standard error of the mean of independent block values.
@@ -54,23 +58,23 @@ fn channel_flow_balances_momentum_and_energy() {
             .unwrap();
         let s = engine.snapshot();
         // exact identities, to round-off
-        let momentum_defect = wall_impulse_x(&s) - (n * g * s.time - (momentum_x(&s) - p0));
-        let momentum_scale = n * g * s.time;
+        let momentum_defect = wall_impulse_x(&s) - (n * g * s.time() - (momentum_x(&s) - p0));
+        let momentum_scale = n * g * s.time();
         assert!(
             momentum_defect.abs() <= 1e-9 * momentum_scale,
             "momentum defect {momentum_defect} of {momentum_scale}"
         );
-        let energy_defect = s.gravity_work - s.energy_dissipated - (kinetic_energy(&s) - e0);
+        let energy_defect = p(&s).gravity_work - p(&s).energy_dissipated - (kinetic_energy(&s) - e0);
         assert!(
-            energy_defect.abs() <= 1e-9 * s.gravity_work,
+            energy_defect.abs() <= 1e-9 * p(&s).gravity_work,
             "energy defect {energy_defect} of {}",
-            s.gravity_work
+            p(&s).gravity_work
         );
-        if let Some(p) = &previous {
-            let dt = s.time - p.time;
-            momentum_ratio.push((wall_impulse_x(&s) - wall_impulse_x(p)) / (n * g * dt));
+        if let Some(q) = &previous {
+            let dt = s.time() - q.time();
+            momentum_ratio.push((wall_impulse_x(&s) - wall_impulse_x(q)) / (n * g * dt));
             power_ratio.push(
-                (s.energy_dissipated - p.energy_dissipated) / (s.gravity_work - p.gravity_work),
+                (p(&s).energy_dissipated - p(q).energy_dissipated) / (p(&s).gravity_work - p(q).gravity_work),
             );
         }
         previous = Some(s);

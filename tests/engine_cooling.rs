@@ -62,7 +62,7 @@ fn measured_ratio(e: f64, beta: f64, seed: u64) -> f64 {
         engine
             .advance(StopAt::CollisionsPerParticle(40.0 + s as f64))
             .unwrap();
-        let snap = engine.snapshot();
+        let snap = engine.particles_now();
         ratios.push(snap.rotational_energy / snap.translational_energy);
     }
     ratios.iter().sum::<f64>() / ratios.len() as f64
@@ -168,7 +168,7 @@ fn rotational_to_translational_temperature_ratio_matches_huthmann_zippelius() {
 fn smooth_spheres_follow_haffs_law() {
     let (n, phi, e) = (8000, 0.01, 0.9);
     let mut engine = EdmdEngine::new(cooling_box(n, phi, e, -1.0, 31)).unwrap();
-    let start = engine.snapshot();
+    let start = engine.particles_now();
     let t0_temp = 2.0 * start.translational_energy / (3.0 * n as f64);
     let g = (1.0 - phi / 2.0) / (1.0 - phi).powi(3);
     let omega0 =
@@ -178,7 +178,7 @@ fn smooth_spheres_follow_haffs_law() {
     for k in 1..=8 {
         let t = 0.25 * k as f64 * t0; // down to T ~ T0 / 9
         engine.advance(StopAt::Time(t)).unwrap();
-        let s = engine.snapshot();
+        let s = engine.particles_now();
         let temp = 2.0 * s.translational_energy / (3.0 * n as f64);
         let haff = t0_temp / (1.0 + t / t0).powi(2);
         worst = worst.max((temp / haff - 1.0).abs());

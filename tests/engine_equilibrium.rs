@@ -5,7 +5,7 @@
 //!   the Enskog-Carnahan-Starling collision frequency at phi = 0.1 and 0.3 (2 %).
 
 use granflow::engine::edmd::{EdmdEngine, EdmdParams, Placement};
-use granflow::engine::{Engine, Snapshot, StopAt};
+use granflow::engine::{Engine, Particles, StopAt};
 
 /// omega = 4 n d^2 g(d) sqrt(pi kT / m), g(d) = (1 - phi/2) / (1 - phi)^3.
 fn enskog_collision_frequency(phi: f64, kt: f64) -> f64 {
@@ -20,7 +20,7 @@ fn periodic(n: usize, phi: f64, seed: u64) -> EdmdParams {
 }
 
 /// Smallest centre distance over all pairs (minimum image), brute force.
-fn min_distance(s: &Snapshot) -> f64 {
+fn min_distance(s: &Particles) -> f64 {
     let ext = s.geometry.extents();
     let mut best = f64::INFINITY;
     for i in 0..s.len() {
@@ -42,26 +42,27 @@ fn elastic_spheres_conserve_energy_never_overlap_and_are_maxwellian() {
     let mut params = periodic(1372, 0.3, 5);
     params.placement = Placement::Fcc;
     let mut engine = EdmdEngine::new(params).unwrap();
-    let e0 = engine.snapshot().translational_energy;
+    let e0 = engine.particles_now().translational_energy;
     let (mut m2, mut m4, mut samples) = (0.0, 0.0, 0.0);
     // 1372 * 1500 / 2 = 1.03 million collisions
     for k in 1..=30 {
         engine
             .advance(StopAt::CollisionsPerParticle(50.0 * k as f64))
             .unwrap();
-        let s = engine.snapshot();
+        let snap = engine.snapshot();
+        let s = snap.particles().unwrap();
         let drift = (s.translational_energy - e0).abs() / e0;
         assert!(
             drift < 1e-10,
             "energy drift {drift:e} after {} collisions",
-            s.counters.pair_collisions
+            snap.counters.get("pair_collisions")
         );
-        assert!(s.rotational_energy == engine.snapshot().rotational_energy);
-        let dmin = min_distance(&s);
+        assert!(s.rotational_energy == engine.particles_now().rotational_energy);
+        let dmin = min_distance(s);
         assert!(
             dmin > 1.0 - 1e-9,
             "overlap: closest pair at {dmin} at t = {}",
-            s.time
+            snap.time()
         );
         if k > 2 {
             for c in &s.velocities {
@@ -73,7 +74,7 @@ fn elastic_spheres_conserve_energy_never_overlap_and_are_maxwellian() {
             }
         }
     }
-    assert!(engine.snapshot().counters.pair_collisions >= 1_000_000);
+    assert!(engine.counters().pair_collisions >= 1_000_000);
     // kT = 2 E / (3 N) of the start (velocities drawn at kT = 1, mean removed)
     let kt = 2.0 * e0 / (3.0 * 1372.0);
     let variance = m2 / samples;
@@ -106,9 +107,10 @@ fn measured_collision_frequency(params: EdmdParams, warmup: f64, cpp: f64) -> (f
         .advance(StopAt::CollisionsPerParticle(warmup + cpp))
         .unwrap();
     let b = engine.snapshot();
-    let kt = 2.0 * b.translational_energy / (3.0 * n);
-    let collisions = (b.counters.pair_collisions - a.counters.pair_collisions) as f64;
-    (2.0 * collisions / n / (b.time - a.time), kt)
+    let kt = 2.0 * b.particles().unwrap().translational_energy / (3.0 * n);
+    let pairs = |s: &granflow::engine::Snapshot| s.counters.get("pair_collisions");
+    let collisions = (pairs(&b) - pairs(&a)) as f64;
+    (2.0 * collisions / n / (b.time() - a.time()), kt)
 }
 
 #[test]

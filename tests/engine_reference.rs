@@ -166,8 +166,9 @@ fn fast_engine_matches_all_pairs_engine_in_developed_flow_with_drifting_grid() {
         let mut warm = EdmdEngine::new(params.clone()).unwrap();
         warm.advance(StopAt::CollisionsPerParticle(40.0)).unwrap();
         let snapshot = warm.snapshot();
+        let particles = snapshot.particles().unwrap();
         let mean_flow =
-            snapshot.velocities.iter().map(|v| v[0]).sum::<f64>() / snapshot.len() as f64;
+            particles.velocities.iter().map(|v| v[0]).sum::<f64>() / particles.len() as f64;
         assert!(
             mean_flow > 1.0,
             "seed {seed}: the flow has not developed (U = {mean_flow})"

@@ -2,9 +2,11 @@
 //! stability, bitwise resume, kill -9 of a real `granflow run` and rerun, two concurrent
 //! runners, and the Parquet tables read back by an independent reader (Python pyarrow).
 
+use granflow::engine::declare::{InId, ParamDefault, ParamKind};
+use granflow::engine::{ParamDef, ParamValue, edmd};
 use granflow::sweep::execute::{self, JobEnd};
-use granflow::sweep::job::{JobParams, PARAMS, ParamDef, canonical_with, id_of_canonical};
-use granflow::sweep::{load_sweep, queue};
+use granflow::sweep::job::{JobParams, canonical_with, id_of_canonical};
+use granflow::sweep::{load_sweep, store as queue};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -333,26 +335,32 @@ fn job_id_stability() {
     }
 
     // a parameter added later (in_id_at_default = false)
-    let mut table: Vec<ParamDef> = PARAMS.to_vec();
+    let mut table: Vec<ParamDef> = edmd::DECLARATION.params.to_vec();
     table.push(ParamDef {
         name: "wall_friction_new",
         symbol: "mu_w",
-        default: Some(0.25),
-        integer: false,
+        unit: "1",
+        kind: ParamKind::Real,
+        default: ParamDefault::Number(0.25),
         allowed: "[0, 1]",
         check: |v| (0.0..=1.0).contains(&v),
-        in_id_at_default: false,
+        doc: "a parameter added later",
+        in_id: InId::AwayFromDefault,
     });
     let job: &JobParams = &a.plan[0].params;
     let mut at_default = job.clone();
-    at_default.values.insert("wall_friction_new".into(), 0.25);
+    at_default
+        .values
+        .insert("wall_friction_new".into(), ParamValue::Number(0.25));
     assert_eq!(
         id_of_canonical(&canonical_with(&table, &at_default)),
         a.plan[0].id,
         "a new parameter at its default must not change the id"
     );
     let mut changed = job.clone();
-    changed.values.insert("wall_friction_new".into(), 0.5);
+    changed
+        .values
+        .insert("wall_friction_new".into(), ParamValue::Number(0.5));
     assert_ne!(
         id_of_canonical(&canonical_with(&table, &changed)),
         a.plan[0].id
@@ -368,7 +376,7 @@ fn job_id_stability() {
 
 /// The comparable part of a result: everything except wall-clock figures.
 fn deterministic_part(dir: &Path) -> String {
-    let mut r = execute::read_result(dir).unwrap();
+    let mut r = queue::read_result(dir).unwrap();
     r.wall_seconds = 0.0;
     r.events_per_second = 0.0;
     ron::to_string(&r).unwrap()
@@ -402,7 +410,7 @@ fn resumed_job_is_bitwise_identical() {
         }
         let claim = queue::try_claim(&jd, false).unwrap().unwrap();
         match execute::run_job(job, &claim, None, &mut |_| {}).unwrap() {
-            JobEnd::Finished(r) => execute::write_result(&jd, &r).unwrap(),
+            JobEnd::Finished(r) => queue::write_result(&jd, &r).unwrap(),
             JobEnd::Stopped => panic!("not finished"),
         }
         jd
@@ -410,8 +418,8 @@ fn resumed_job_is_bitwise_identical() {
     let straight = run_in("straight", &[]);
     let resumed = run_in("resumed", &[3, 7]);
     assert_eq!(deterministic_part(&straight), deterministic_part(&resumed));
-    let a = execute::read_checkpoint(&straight).unwrap().unwrap();
-    let b = execute::read_checkpoint(&resumed).unwrap().unwrap();
+    let a = queue::read_checkpoint(&straight).unwrap().unwrap();
+    let b = queue::read_checkpoint(&resumed).unwrap().unwrap();
     assert_eq!(a.engine, b.engine, "final engine checkpoints differ");
     assert_eq!(
         postcard::to_stdvec(&a.records).unwrap(),

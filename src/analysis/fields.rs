@@ -8,7 +8,7 @@
 //! plug. Along x and z (periodic) the grid covers the whole box.
 
 use super::AnalysisSettings;
-use crate::engine::{BoxGeometry, Snapshot};
+use crate::engine::{BoxGeometry, Particles};
 
 /// Particle radius d/2 in units of d (the engine's spheres have d = 1).
 pub const PARTICLE_RADIUS: f64 = 0.5;
@@ -154,7 +154,7 @@ pub struct Fields {
 
 impl Fields {
     /// Cellwise averages of `snapshot` on `grid`.
-    pub fn compute(snapshot: &Snapshot, grid: &Grid) -> Fields {
+    pub fn compute(snapshot: &Particles, grid: &Grid) -> Fields {
         let m = grid.cells();
         let cells: Vec<usize> = snapshot
             .positions
@@ -229,7 +229,7 @@ pub struct CellMoments {
 
 impl CellMoments {
     /// Moments over `cells` cells; `cell_of[p]` is the cell of particle p.
-    pub fn compute(snapshot: &Snapshot, cell_of: &[usize], cells: usize) -> CellMoments {
+    pub fn compute(snapshot: &Particles, cell_of: &[usize], cells: usize) -> CellMoments {
         let mut count = vec![0u64; cells];
         let mut sum_velocity = vec![[0.0; 3]; cells];
         let mut sum_spin = vec![[0.0; 3]; cells];
@@ -237,7 +237,7 @@ impl CellMoments {
             count[k] += 1;
             for a in 0..3 {
                 sum_velocity[k][a] += snapshot.velocities[p][a];
-                sum_spin[k][a] += snapshot.angular_velocities[p][a];
+                sum_spin[k][a] += snapshot.spin(p)[a];
             }
         }
         let mean = |s: &[f64; 3], n: u64| s.map(|v| v / n.max(1) as f64);
@@ -249,7 +249,7 @@ impl CellMoments {
         let mut fluctuation_w2 = vec![0.0; cells];
         for (p, &k) in cell_of.iter().enumerate() {
             fluctuation_c2[k] += dist2(snapshot.velocities[p], mean_velocity[k]);
-            fluctuation_w2[k] += dist2(snapshot.angular_velocities[p], mean_spin[k]);
+            fluctuation_w2[k] += dist2(snapshot.spin(p), mean_spin[k]);
         }
         CellMoments {
             count,

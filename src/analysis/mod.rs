@@ -12,18 +12,21 @@
 //! "Analysis and structure classifier".
 
 pub mod classify;
+pub mod columns;
 pub mod fields;
+mod kind;
 pub mod profiles;
 mod report;
 pub mod snapshot_io;
 pub mod spectrum;
 pub mod steady;
 
+pub use kind::{Analyser, Analysis, AnalysisKind, Record};
 pub use profiles::BinSums;
 pub use report::MIN_LABEL_RUN;
 pub use snapshot_io::{write_vtk_density, write_xyz};
 
-use crate::engine::Snapshot;
+use crate::engine::{Particles, Snapshot};
 use classify::{FamilyPowers, assess, family_powers, noise_per_mode};
 use fields::{Grid, SPHERE_VOLUME, cell_counts, plane_counts};
 use report::{dominant_modes, empty_summary, family_peaks, spectrum_rows, structure_evolution};
@@ -254,25 +257,30 @@ pub struct StructureChange {
 
 /// Reduce one snapshot to what the analysis keeps of it: energies, the plane counts of the
 /// coarse-graining grid and the profile bin sums (no particles).
+///
+/// Panics when the snapshot carries no particles (the [`Analyser`] checks that first).
 pub fn record_snapshot(snapshot: &Snapshot, settings: &AnalysisSettings) -> SnapshotRecord {
-    let n = snapshot.len();
-    let grid = Grid::new(&snapshot.geometry, n, settings);
-    let [xy, xz, yz] = plane_counts(&cell_counts(&snapshot.positions, &grid), &grid);
+    let particles: &Particles = snapshot
+        .particles()
+        .expect("the structure analysis records snapshots that carry particles");
+    let n = particles.len();
+    let grid = Grid::new(&particles.geometry, n, settings);
+    let [xy, xz, yz] = plane_counts(&cell_counts(&particles.positions, &grid), &grid);
     SnapshotRecord {
-        collisions_per_particle: snapshot.collisions_per_particle,
-        time: snapshot.time,
-        translational_energy: snapshot.translational_energy / n.max(1) as f64,
-        rotational_energy: snapshot.rotational_energy / n.max(1) as f64,
+        collisions_per_particle: snapshot.progress.collisions_per_particle,
+        time: snapshot.progress.time,
+        translational_energy: particles.translational_energy / n.max(1) as f64,
+        rotational_energy: particles.rotational_energy / n.max(1) as f64,
         particles: n as u64,
-        box_extent: snapshot.geometry.extents(),
-        gravity: snapshot.gravity,
-        inertia_factor: snapshot.inertia_factor,
+        box_extent: particles.geometry.extents(),
+        gravity: particles.gravity,
+        inertia_factor: particles.inertia_factor,
         grid: grid.n.map(|k| k as u32),
         grid_volume: grid.volume(),
         counts_xy: xy,
         counts_xz: xz,
         counts_yz: yz,
-        profile: profiles::bin_sums(snapshot, &grid, settings.profile_bins),
+        profile: profiles::bin_sums(particles, &grid, settings.profile_bins),
     }
 }
 

@@ -17,7 +17,7 @@
 
 use super::fields::{CellMoments, Grid, SPHERE_VOLUME};
 use super::{ProfileRow, SnapshotRecord};
-use crate::engine::Snapshot;
+use crate::engine::Particles;
 use serde::{Deserialize, Serialize};
 
 /// Profile quantities, in the order of the rows.
@@ -51,7 +51,7 @@ fn bin_of(y: f64, width: f64, bins: usize) -> usize {
 }
 
 /// The per-bin sums of one snapshot (fluctuation cells: x and z cells of `grid` x bins).
-pub fn bin_sums(snapshot: &Snapshot, grid: &Grid, bins: usize) -> Vec<BinSums> {
+pub fn bin_sums(snapshot: &Particles, grid: &Grid, bins: usize) -> Vec<BinSums> {
     let bins = bins.max(1);
     let width = snapshot.geometry.width;
     let [n1, _, n3] = grid.n;

@@ -3,7 +3,7 @@
 
 use super::AnalysisSettings;
 use super::fields::{Fields, Grid, PARTICLE_RADIUS};
-use crate::engine::Snapshot;
+use crate::engine::{Particles, Snapshot};
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
@@ -11,10 +11,11 @@ use std::path::Path;
 /// and z, walls along y unless the box is periodic) and the columns
 /// `Properties=pos:R:3:velo:R:3:omega:R:3:radius:R:1`, then one line per particle.
 pub fn write_xyz(path: impl AsRef<Path>, snapshot: &Snapshot) -> std::io::Result<()> {
+    let particles = particles_of(snapshot)?;
     let file = std::fs::File::create(path.as_ref())?;
     let mut out = BufWriter::new(file);
-    let g = &snapshot.geometry;
-    writeln!(out, "{}", snapshot.len())?;
+    let g = &particles.geometry;
+    writeln!(out, "{}", particles.len())?;
     writeln!(
         out,
         "Lattice=\"{} 0 0 0 {} 0 0 0 {}\" Origin=\"0 0 0\" \
@@ -24,13 +25,13 @@ pub fn write_xyz(path: impl AsRef<Path>, snapshot: &Snapshot) -> std::io::Result
         g.width,
         g.height,
         if g.walls { "F" } else { "T" },
-        snapshot.time,
-        snapshot.collisions_per_particle
+        snapshot.progress.time,
+        snapshot.progress.collisions_per_particle
     )?;
-    for p in 0..snapshot.len() {
-        let [x, y, z] = snapshot.positions[p];
-        let [u, v, w] = snapshot.velocities[p];
-        let [a, b, c] = snapshot.angular_velocities[p];
+    for p in 0..particles.len() {
+        let [x, y, z] = particles.positions[p];
+        let [u, v, w] = particles.velocities[p];
+        let [a, b, c] = particles.spin(p);
         writeln!(out, "{x} {y} {z} {u} {v} {w} {a} {b} {c} {PARTICLE_RADIUS}")?;
     }
     out.flush()
@@ -45,8 +46,9 @@ pub fn write_vtk_density(
     snapshot: &Snapshot,
     settings: &AnalysisSettings,
 ) -> std::io::Result<()> {
-    let grid = Grid::new(&snapshot.geometry, snapshot.len(), settings);
-    let fields = Fields::compute(snapshot, &grid);
+    let particles = particles_of(snapshot)?;
+    let grid = Grid::new(&particles.geometry, particles.len(), settings);
+    let fields = Fields::compute(particles, &grid);
     let file = std::fs::File::create(path.as_ref())?;
     let mut out = BufWriter::new(file);
     let [n1, n2, n3] = grid.n;
@@ -55,7 +57,7 @@ pub fn write_vtk_density(
     writeln!(
         out,
         "granflow cellwise fields t = {} collisions/particle = {}",
-        snapshot.time, snapshot.collisions_per_particle
+        snapshot.progress.time, snapshot.progress.collisions_per_particle
     )?;
     writeln!(out, "ASCII")?;
     writeln!(out, "DATASET STRUCTURED_POINTS")?;
@@ -88,4 +90,11 @@ pub fn write_vtk_density(
         writeln!(out, "{u} {v} {w}")?;
     }
     out.flush()
+}
+
+/// The particles of a snapshot, or an error for engines whose snapshots carry none.
+fn particles_of(snapshot: &Snapshot) -> std::io::Result<&Particles> {
+    snapshot.particles().ok_or_else(|| {
+        std::io::Error::other("this engine's snapshots carry no particles to write")
+    })
 }

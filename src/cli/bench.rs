@@ -115,7 +115,7 @@ fn measure(
 ) -> anyhow::Result<BenchResult> {
     let mut engine = EdmdEngine::with_search(w.params.clone(), search)?;
     engine.advance(StopAt::CollisionsPerParticle(w.warmup))?;
-    let before = engine.snapshot().counters;
+    let before = engine.snapshot().progress;
     let started = Instant::now();
     engine.advance(StopAt::CollisionsPerParticle(w.warmup + measured_cpp))?;
     let secs = started.elapsed().as_secs_f64();

@@ -1,8 +1,10 @@
 //! The command-line front end: clap arguments and one module per command.
 
 mod bench;
+mod engines;
 mod gather;
 mod phase_diagram;
+mod params;
 mod plan;
 mod run;
 mod sim;
@@ -23,8 +25,10 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Run a single simulation from flags or a small RON file and print progress.
+    /// Run a single simulation of any engine from flags or a RON file and print progress.
     Sim(sim::SimArgs),
+    /// List the engines and their parameters (`--markdown`: README's parameter tables).
+    Engines(engines::EnginesArgs),
     /// Measure engine speed on standard workloads (collisions/s, events/s, memory).
     Bench(bench::BenchArgs),
     /// Run the jobs of a sweep that are not done yet (resumable), then write the tables.
@@ -49,6 +53,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Sim(args) => sim::run(args),
+        Command::Engines(args) => engines::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Run(args) => run::run(args),
         Command::Plan(args) => plan::run(args),

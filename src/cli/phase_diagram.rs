@@ -51,7 +51,7 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
             swept.get(1).map(|s| s.to_string())
         }
     });
-    let diagram = PhaseDiagram::build(&jobs, &x, y.as_deref()).map_err(BadInput)?;
+    let diagram = PhaseDiagram::build(sweep.engine(), &jobs, &x, y.as_deref()).map_err(BadInput)?;
     let others: Vec<_> = swept
         .iter()
         .filter(|s| **s != x && Some(**s) != y.as_deref())

@@ -1,7 +1,7 @@
 //! `granflow plan SWEEP.ron`: list the jobs of a sweep (index, id, state, N, estimated work,
 //! swept parameters, seed) without running anything.
 
-use crate::sweep::{load_sweep, phase, queue, tables};
+use crate::sweep::{load_sweep, phase, store, tables};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -22,8 +22,11 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
     let dirs = sweep.results_dir(&args.results);
     let jobs = tables::collect(&sweep, &dirs);
     let mut swept = phase::swept_in(&sweep, &jobs);
-    if swept.is_empty() {
-        swept.push("length_over_width");
+    let engine = sweep.engine();
+    if swept.is_empty()
+        && let Some(first) = engine.params.first()
+    {
+        swept.push(first.name);
     }
     println!(
         "sweep {}: {} jobs; tables in {}, jobs in {}",
@@ -34,7 +37,7 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
     );
     let mut header = format!(
         "{:>5}  {:<16}  {:<8}  {:>8}  {:>10}",
-        "index", "id", "state", "N", "work"
+        "index", "id", "state", engine.size_name, "work"
     );
     for s in &swept {
         header.push_str(&format!("  {s:>w$}", w = s.len().max(8)));
@@ -46,7 +49,7 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
         let p = &j.job.params;
         total_work += p.estimated_work();
         let state = match &j.state {
-            queue::JobState::Partial(c) => format!("{:.0}cpp", c),
+            store::JobState::Partial(c) => format!("{c:.0}{}", p.run.clock().unit()),
             s => s.name().to_string(),
         };
         let mut line = format!(
@@ -54,13 +57,13 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
             j.job.index,
             j.job.id.0,
             state,
-            p.particles(),
+            p.size(),
             p.estimated_work()
         );
         for s in &swept {
             line.push_str(&format!(
                 "  {:>w$}",
-                phase::fmt_value(p.get(s)),
+                p.values.get(*s).map_or("-".into(), phase::fmt_value),
                 w = s.len().max(8)
             ));
         }
@@ -68,8 +71,10 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
         println!("{line}");
     }
     println!(
-        "estimated work: {total_work:.3e} collisions (about {:.0} core-seconds at 1.5e5 collisions/s)",
-        total_work / 1.5e5
+        "estimated work: {total_work:.3e} {unit} (about {:.0} core-seconds at {:.1e} {unit}/s)",
+        total_work / engine.work_rate,
+        engine.work_rate,
+        unit = engine.work_unit,
     );
     Ok(())
 }

@@ -1,62 +1,56 @@
-//! `granflow sim`: run one simulation from flags (or a small RON file of `EdmdParams`) and
-//! print progress, the energies and the event counters.
+//! `granflow sim`: run one simulation of any registered engine from flags (or a RON file of
+//! parameter values) and print progress, the engine's counters and, with `--analyse`, its
+//! analysis. Bad input is rejected (exit 2) before anything is printed.
 
-use crate::analysis::{self, AnalysisSettings, JobAnalysis};
-use crate::engine::edmd::{EdmdEngine, EdmdParams};
-use crate::engine::{Engine, StopAt};
-use anyhow::Context;
+use super::params::ParamFlags;
+use crate::analysis::{self, Analyser, Analysis, JobAnalysis};
+use crate::engine::{Clock, Content, EngineDef, ParamValue, Snapshot, StopAt, Values, registry};
+use crate::sweep::BadInput;
+use crate::sweep::spec::{ParamValues, did_you_mean};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(Debug, Args)]
 pub struct SimArgs {
-    /// RON file with the full engine parameters (EdmdParams); replaces the geometry and material flags
+    /// the engine (see `granflow engines`)
+    #[arg(long, default_value = "edmd")]
+    pub engine: String,
+    /// RON file of parameter values, as a sweep's `fixed` section: (restitution: 0.9, ...);
+    /// flags and --set override it
     #[arg(long)]
     pub params: Option<PathBuf>,
-    /// L/W, channel length over width
-    #[arg(long, default_value_t = 3.0)]
-    pub length_over_width: f64,
-    /// W/d, channel width in particle diameters
-    #[arg(long, default_value_t = 15.0)]
-    pub width_over_diameter: f64,
-    /// H/d, channel height (span) in particle diameters
-    #[arg(long, default_value_t = 15.0)]
-    pub height_over_diameter: f64,
-    /// phi, volume fraction
-    #[arg(long, default_value_t = 0.15)]
-    pub volume_fraction: f64,
-    /// e, particle-particle normal restitution
-    #[arg(long, default_value_t = 0.7)]
-    pub restitution: f64,
-    /// beta, particle-particle tangential restitution
-    #[arg(long, default_value_t = 0.1)]
-    pub roughness: f64,
-    /// e_w, particle-wall normal restitution
-    #[arg(long, default_value_t = 0.99)]
-    pub wall_restitution: f64,
-    /// beta_w, particle-wall tangential restitution
-    #[arg(long, default_value_t = 0.99)]
-    pub wall_roughness: f64,
-    /// t_c of the TC model (0 switches it off)
-    #[arg(long, default_value_t = EdmdParams::DEFAULT_TC)]
-    pub tc: f64,
+    #[command(flatten)]
+    pub flags: ParamFlags,
+    /// set a parameter: key=value (repeatable; as in `granflow run --set`)
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
     /// seed of the portable RNG
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// run length in collisions per particle
-    #[arg(long, default_value_t = 1000.0)]
-    pub collisions_per_particle: f64,
-    /// report (and snapshot) every this many collisions per particle
-    #[arg(long, default_value_t = 100.0)]
-    pub report_every: f64,
-    /// analyse the snapshots (steady window, spectra, profiles, structure label) and print it
+    #[arg(long, group = "length")]
+    pub collisions_per_particle: Option<f64>,
+    /// run length in time steps
+    #[arg(long, group = "length")]
+    pub steps: Option<f64>,
+    /// run length in simulated time
+    #[arg(long, group = "length")]
+    pub time: Option<f64>,
+    /// report (and snapshot) every this much of the run's clock (default: the engine's
+    /// example cadence, or a tenth of the run)
+    #[arg(long)]
+    pub report_every: Option<f64>,
+    /// analyse the snapshots (the engine's analysis: steady window, spectra, profiles,
+    /// structure label) and print it
     #[arg(long)]
     pub analyse: bool,
-    /// write every snapshot as extended XYZ (OVITO, ParaView) into this directory
+    /// write every snapshot as extended XYZ (OVITO, ParaView) into this directory (particle
+    /// engines)
     #[arg(long, value_name = "DIR")]
     pub xyz: Option<PathBuf>,
     /// write the cellwise fields of every snapshot as legacy VTK (ParaView) into this directory
+    /// (particle engines)
     #[arg(long, value_name = "DIR")]
     pub vtk: Option<PathBuf>,
     /// coarse-graining grid for --analyse and --vtk, as N1,N2,N3 (default: about 4 particles
@@ -65,133 +59,263 @@ pub struct SimArgs {
     pub grid: Option<Vec<usize>>,
 }
 
-pub fn run(args: SimArgs) -> anyhow::Result<()> {
-    let params = match &args.params {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
-            ron::from_str::<EdmdParams>(&text)
-                .with_context(|| format!("parsing {}", path.display()))?
+/// Everything `sim` needs, checked before anything runs.
+struct Plan {
+    engine: &'static EngineDef,
+    values: Values,
+    clock: Clock,
+    length: f64,
+    every: f64,
+    analyser: Analyser,
+}
+
+fn bad(message: String) -> anyhow::Error {
+    BadInput(message).into()
+}
+
+/// Gather and check the parameters: the engine's example values, then the RON file, the
+/// flags, `--set`; then resolve them as a sweep would.
+fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
+    let engine = registry::find(&args.engine).ok_or_else(|| {
+        bad(format!(
+            "--engine {}: no such engine; allowed: {}",
+            args.engine,
+            registry::names()
+        ))
+    })?;
+    let mut given: Vec<(String, String, String)> = Vec::new(); // (key, text, origin)
+    if let Some(path) = &args.params {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
+        let values: ParamValues = ron::from_str(&text)
+            .map_err(|e| bad(format!("{}: {e}", path.display())))?;
+        for (k, v) in values.0 {
+            let text = match v {
+                ParamValue::Number(x) => format!("{x}"),
+                ParamValue::Text(s) => s,
+            };
+            given.push((k, text, path.display().to_string()));
         }
-        None => {
-            let w = args.width_over_diameter;
-            let mut p = EdmdParams::channel(
-                args.length_over_width * w,
-                w,
-                args.height_over_diameter,
-                args.volume_fraction,
-                args.seed,
-            );
-            p.restitution = args.restitution;
-            p.roughness = args.roughness;
-            p.wall_restitution = args.wall_restitution;
-            p.wall_roughness = args.wall_roughness;
-            p.tc = args.tc;
-            p
+    }
+    for (k, v) in &args.flags.0 {
+        given.push((k.to_string(), v.clone(), format!("--{}", k.replace('_', "-"))));
+    }
+    for s in &args.set {
+        let (k, v) = s
+            .split_once('=')
+            .ok_or_else(|| bad(format!("--set {s}: expected key=value")))?;
+        given.push((k.trim().to_string(), v.trim().to_string(), format!("--set {s}")));
+    }
+    let mut values = Values::new();
+    for (k, v) in engine.example {
+        let def = engine.param(k).expect("examples name declared parameters");
+        values.insert(k.to_string(), def.parse_text(v).map_err(bad)?);
+    }
+    for (key, text, origin) in &given {
+        let Some(def) = engine.param(key) else {
+            let others = registry::engines_with_param(key, engine.name);
+            let hint = did_you_mean(key, engine.params.iter().map(|d| d.name))
+                .map(|s| format!(" (did you mean `{s}`?)"))
+                .unwrap_or_default();
+            return Err(bad(if others.is_empty() {
+                format!(
+                    "{origin}: `{key}` is not a parameter of the {} engine{hint}; its parameters: {}",
+                    engine.name,
+                    engine.param_names()
+                )
+            } else {
+                format!(
+                    "{origin}: `{key}` is a parameter of the {} engine, not of {} (use --engine)",
+                    others.join(", "),
+                    engine.name
+                )
+            }));
+        };
+        let value = def
+            .parse_text(text)
+            .map_err(|m| bad(format!("{origin}: {m}")))?;
+        def.check_value(&value)
+            .map_err(|m| bad(format!("{origin}: {m}")))?;
+        for alt in engine.alternatives_of(key) {
+            values.remove(alt);
+        }
+        values.insert(key.clone(), value);
+    }
+    let values = engine
+        .resolve_values(&values)
+        .map_err(|p| bad(format!("{}: {}", p.key, p.message)))?;
+    let lengths = [
+        (Clock::CollisionsPerParticle, args.collisions_per_particle),
+        (Clock::Steps, args.steps),
+        (Clock::Time, args.time),
+    ];
+    let (clock, length, every) = match lengths.into_iter().find(|(_, v)| v.is_some()) {
+        Some((clock, Some(length))) => {
+            let every = args.report_every.unwrap_or(if clock == engine.example_run.0 {
+                engine.example_run.2.min(length)
+            } else {
+                length / 10.0
+            });
+            (clock, length, every)
+        }
+        _ => {
+            let (clock, length, every) = engine.example_run;
+            (clock, length, args.report_every.unwrap_or(every))
         }
     };
-    anyhow::ensure!(args.report_every > 0.0, "--report-every must be > 0");
-    let g = params.geometry;
-    println!(
-        "EDMD: N = {}, box {} x {} x {} ({}), phi = {:.4}, e = {}, beta = {}, e_w = {}, beta_w = {}, tc = {:e}",
-        params.particles,
-        g.length,
-        g.width,
-        g.height,
-        if g.walls {
-            "walls at y = 0, W"
-        } else {
-            "periodic"
-        },
-        params.volume_fraction(),
-        params.restitution,
-        params.roughness,
-        params.wall_restitution,
-        params.wall_roughness,
-        params.tc
-    );
-    let mut settings = AnalysisSettings::default();
+    let mut run = crate::sweep::RunSettings::new(clock, length, every);
+    run.checkpoint_every = 1;
+    run.validate(engine).map_err(|(key, m)| {
+        bad(format!(
+            "--{}: {m}",
+            if key == "snapshot_interval" {
+                "report-every".to_string()
+            } else {
+                key.replace('_', "-")
+            }
+        ))
+    })?;
+    let mut settings = engine.analysis.default_settings();
     if let Some(g) = &args.grid {
-        anyhow::ensure!(
-            g.len() == 3 && g.iter().all(|&k| k >= 1),
-            "--grid needs three cell counts >= 1, as N1,N2,N3 (got {g:?})"
-        );
-        settings.grid = Some([g[0], g[1], g[2]]);
-    }
-    settings.validate().map_err(anyhow::Error::msg)?;
-    for dir in [&args.xyz, &args.vtk].into_iter().flatten() {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    let mut records = Vec::new();
-    let mut snapshots = 0usize;
-    let mut engine = EdmdEngine::new(params)?;
-    let n = engine.particle_count() as f64;
-    let started = Instant::now();
-    println!(
-        "{:>10} {:>12} {:>12} {:>12} {:>10} {:>12}",
-        "coll/part", "time", "E_trans/N", "E_rot/N", "TC frac", "events/s"
-    );
-    let mut next = 0.0;
-    while next < args.collisions_per_particle {
-        next = (next + args.report_every).min(args.collisions_per_particle);
-        engine.advance(StopAt::CollisionsPerParticle(next))?;
-        let s = engine.snapshot();
-        write_snapshot_files(&args, &s, &settings, snapshots)?;
-        snapshots += 1;
-        if args.analyse {
-            records.push(analysis::record_snapshot(&s, &settings));
+        if g.len() != 3 || g.iter().any(|&k| k == 0) {
+            return Err(bad(format!(
+                "--grid needs three cell counts >= 1, as N1,N2,N3 (got {g:?})"
+            )));
         }
-        let c = s.counters;
-        println!(
-            "{:>10.1} {:>12.4} {:>12.5} {:>12.5} {:>10.2e} {:>12.3e}",
-            s.collisions_per_particle,
-            s.time,
-            s.translational_energy / n,
-            s.rotational_energy / n,
-            c.tc_elastic_collisions as f64 / c.pair_collisions.max(1) as f64,
-            c.events as f64 / started.elapsed().as_secs_f64()
-        );
+        settings["grid"] = serde_json::json!(g);
+    }
+    let analyser = engine
+        .analysis
+        .analyser(&settings)
+        .map_err(|m| bad(format!("--grid: {m}")))?;
+    Ok(Plan {
+        engine,
+        values,
+        clock,
+        length,
+        every,
+        analyser,
+    })
+}
+
+pub fn run(args: SimArgs) -> anyhow::Result<()> {
+    let plan = plan(&args)?;
+    let engine_def = plan.engine;
+    let mut engine = (engine_def.build)(&plan.values, args.seed)?;
+    for dir in [&args.xyz, &args.vtk].into_iter().flatten() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| anyhow::anyhow!("creating {}: {e}", dir.display()))?;
+    }
+    println!("{}: {}", engine_def.name, engine_def.title);
+    let shown: Vec<String> = engine_def
+        .params
+        .iter()
+        .filter_map(|d| {
+            plan.values
+                .get(d.name)
+                .map(|v| format!("{} = {}", d.symbol, crate::sweep::phase::fmt_value(v)))
+        })
+        .collect();
+    println!("{}; seed {}", shown.join(", "), args.seed);
+    let clock = plan.clock;
+    let started = Instant::now();
+    let first = engine.snapshot();
+    let mut header = format!("{:>12} {:>12}", clock.unit(), "time");
+    if matches!(first.content, Content::Particles(_)) {
+        header.push_str(&format!(" {:>12} {:>12}", "E_trans/N", "E_rot/N"));
+    }
+    for ratio in engine_def.ratios {
+        header.push_str(&format!(" {:>12}", short(ratio.name)));
+    }
+    header.push_str(&format!(" {:>12}", "events/s"));
+    let mut records = Vec::new();
+    write_snapshot_files(&args, &first, &plan)?;
+    if args.analyse {
+        records.push(plan.analyser.record(&first).map_err(anyhow::Error::msg)?);
+    }
+    println!("{header}");
+    let mut next = 0.0;
+    while next < plan.length {
+        next = (next + plan.every).min(plan.length);
+        engine.advance(StopAt::on(clock, next))?;
+        let s = engine.snapshot();
+        write_snapshot_files(&args, &s, &plan)?;
+        if args.analyse {
+            records.push(plan.analyser.record(&s).map_err(anyhow::Error::msg)?);
+        }
+        let mut line = format!("{:>12.1} {:>12.4}", s.progress.on(clock), s.progress.time);
+        if let Content::Particles(p) = &s.content {
+            let n = p.len().max(1) as f64;
+            line.push_str(&format!(
+                " {:>12.5} {:>12.5}",
+                p.translational_energy / n,
+                p.rotational_energy / n
+            ));
+        }
+        for ratio in engine_def.ratios {
+            line.push_str(&format!(
+                " {:>12.3e}",
+                s.counters.get(ratio.numerator) as f64
+                    / s.counters.get(ratio.denominator).max(1) as f64
+            ));
+        }
+        line.push_str(&format!(
+            " {:>12.3e}",
+            s.progress.events as f64 / started.elapsed().as_secs_f64()
+        ));
+        println!("{line}");
     }
     let s = engine.snapshot();
-    let c = s.counters;
     let secs = started.elapsed().as_secs_f64();
+    let counters: Vec<String> = s
+        .counters
+        .0
+        .iter()
+        .map(|(k, v)| format!("{v} {}", k.replace('_', " ")))
+        .collect();
     println!(
-        "done: {} pair collisions, {} wall collisions, {} cell crossings, {} events in {secs:.1} s \
-         ({:.3e} collisions/s); TC-elastic fraction {:.3e}",
-        c.pair_collisions,
-        c.wall_collisions,
-        c.cell_crossings,
-        c.events,
-        c.pair_collisions as f64 / secs,
-        c.tc_elastic_collisions as f64 / c.pair_collisions.max(1) as f64
+        "done in {secs:.1} s: {}; {:.3e} events/s",
+        counters.join(", "),
+        s.progress.events as f64 / secs
     );
     if args.analyse {
-        print_analysis(&analysis::analyse_job(&records, &settings));
+        match plan.analyser.analyse(&records) {
+            Analysis::Structure(a) => print_structure(&a),
+        }
     }
     Ok(())
 }
 
-/// Write the requested XYZ / VTK files of snapshot number `index`.
-fn write_snapshot_files(
-    args: &SimArgs,
-    s: &crate::engine::Snapshot,
-    settings: &AnalysisSettings,
-    index: usize,
-) -> anyhow::Result<()> {
+/// A column title from a ratio name (`tc_elastic_fraction` -> `TC frac`).
+fn short(name: &str) -> String {
+    match name {
+        "tc_elastic_fraction" => "TC frac".into(),
+        other => other.chars().take(12).collect(),
+    }
+}
+
+/// Write the requested XYZ / VTK files of a snapshot (named by the clock reading).
+fn write_snapshot_files(args: &SimArgs, s: &Snapshot, plan: &Plan) -> anyhow::Result<()> {
+    if args.xyz.is_none() && args.vtk.is_none() {
+        return Ok(());
+    }
+    let at = s.progress.on(plan.clock);
+    let tag = format!("{}{at:010.1}", plan.clock.unit());
     if let Some(dir) = &args.xyz {
-        let path = dir.join(format!("snapshot_{index:05}.xyz"));
-        analysis::write_xyz(&path, s).with_context(|| format!("writing {}", path.display()))?;
+        let path = dir.join(format!("snapshot_{tag}.xyz"));
+        analysis::write_xyz(&path, s)
+            .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
     }
-    if let Some(dir) = &args.vtk {
-        let path = dir.join(format!("fields_{index:05}.vtk"));
+    if let (Some(dir), Analyser::Structure(settings)) = (&args.vtk, &plan.analyser) {
+        let path = dir.join(format!("fields_{tag}.vtk"));
         analysis::write_vtk_density(&path, s, settings)
-            .with_context(|| format!("writing {}", path.display()))?;
+            .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
     }
     Ok(())
 }
 
-/// Print a job analysis: label and the numbers behind it, evolution, profiles.
-fn print_analysis(a: &JobAnalysis) {
+/// Print a structure analysis: label and the numbers behind it, evolution, profiles.
+fn print_structure(a: &JobAnalysis) {
     let s = &a.summary;
     println!("\n== analysis ==");
     println!(

@@ -2,7 +2,7 @@
 //! failures with their errors.
 
 use super::source::SweepSource;
-use crate::sweep::{queue::JobState, tables};
+use crate::sweep::{store, store::JobState, tables};
 use clap::Args;
 
 #[derive(Debug, Args)]
@@ -30,26 +30,27 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
         count("failed")
     );
     for j in &jobs {
-        let target = j.job.params.run.collisions_per_particle;
+        let run = &j.job.params.run;
+        let (target, unit) = (run.length(), run.clock().unit());
         let line = match &j.state {
             JobState::Done => {
                 let r = j.result.as_ref().expect("done jobs have results");
                 format!(
-                    "done     {:.0}/{target:.0} cpp  {} ({} humps)  {:.1} s  {:.2e} events/s",
-                    r.collisions_per_particle,
-                    r.analysis.summary.label,
-                    r.analysis.summary.humps,
+                    "done     {:.0}/{target:.0} {unit}  {} ({} humps)  {:.1} s  {:.2e} events/s",
+                    r.clock(run.clock()),
+                    r.analysis.label().0,
+                    r.analysis.label().1,
                     r.wall_seconds,
                     r.events_per_second
                 )
             }
             JobState::Partial(c) => {
-                format!("partial  {c:.0}/{target:.0} cpp (resumes from its checkpoint)")
+                format!("partial  {c:.0}/{target:.0} {unit} (resumes from its checkpoint)")
             }
             JobState::Running => {
                 let dir = dirs.job_dir(&j.job.id);
-                match crate::sweep::execute::checkpoint_progress(&dir) {
-                    Some(c) => format!("running  {c:.0}/{target:.0} cpp at the last checkpoint"),
+                match store::checkpoint_progress(&dir) {
+                    Some(c) => format!("running  {c:.0}/{target:.0} {unit} at the last checkpoint"),
                     None => "running  (claimed by a live runner)".to_string(),
                 }
             }

@@ -1,13 +1,19 @@
 //! The engine boundary: what every simulation engine offers to a job (advance, snapshot,
-//! checkpoint/restore, counters), independent of how it moves particles.
+//! checkpoint/restore, counters), independent of how it moves particles, and the registry of
+//! engines ([`registry`]), where each engine declares its parameters, clock and analysis once.
 //!
-//! Units throughout: particle diameter d = 1, mass m = 1, gravity g = 1 (when switched on);
-//! time is measured in sqrt(d/g).
+//! Units of the particle engines: particle diameter d = 1, mass m = 1, gravity g = 1 (when
+//! switched on); time is measured in sqrt(d/g). The lattice gas counts sites and time steps.
 
+pub mod declare;
 pub mod dsmc;
 pub mod edmd;
+pub mod envelope;
+pub mod registry;
 
 use serde::{Deserialize, Serialize};
+
+pub use declare::{Clock, EngineDef, ParamDef, ParamValue, Values};
 
 /// The simulation box. x is the flow direction (periodic, gravity along +x), y is across the
 /// channel (two flat walls at y = 0 and y = W, or periodic), z is the span (periodic).
@@ -35,49 +41,120 @@ impl BoxGeometry {
     }
 }
 
-/// Event counters of a run (cumulative since the start of the run, kept across checkpoints).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Counters {
-    /// particle-particle collisions (including TC-elastic ones)
-    pub pair_collisions: u64,
-    /// particle-wall collisions
-    pub wall_collisions: u64,
-    /// cell crossings (bookkeeping events)
-    pub cell_crossings: u64,
-    /// pair collisions made elastic by the TC model
-    pub tc_elastic_collisions: u64,
-    /// all events taken from the queue, including invalidated ones
-    pub events: u64,
+/// An engine's counters as named values, in the order its declaration lists them
+/// (cumulative since the start of the run, kept across checkpoints).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Counters(pub Vec<(String, u64)>);
+
+impl Counters {
+    /// The value of a counter (0 when the engine has no counter of that name).
+    pub fn get(&self, name: &str) -> u64 {
+        self.0
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(0, |(_, v)| *v)
+    }
+
+    /// From (name, value) pairs.
+    pub fn from_pairs<'a>(pairs: impl IntoIterator<Item = (&'a str, u64)>) -> Self {
+        Counters(pairs.into_iter().map(|(n, v)| (n.to_string(), v)).collect())
+    }
 }
 
-/// The thesis' clock and simulated time of a running engine.
+impl Serialize for Counters {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(Some(self.0.len()))?;
+        for (name, value) in &self.0 {
+            map.serialize_entry(name, value)?;
+        }
+        map.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for Counters {
+    /// Accepts a map `{"name": value}` and a struct `(name: value)` alike (results written
+    /// before counters were named hold the struct form).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = Counters;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("named counters")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut m: A) -> Result<Counters, A::Error> {
+                let mut out = Vec::new();
+                while let Some((k, v)) = m.next_entry::<String, u64>()? {
+                    out.push((k, v));
+                }
+                Ok(Counters(out))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
+}
+
+/// Where a running engine is, on every clock it may be driven by.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Progress {
-    /// simulated time t, in sqrt(d/g)
+    /// simulated time t (sqrt(d/g) for particle engines; time steps for the lattice gas)
     pub time: f64,
-    /// collisions per particle = 2 x pair collisions / N (the thesis' clock)
+    /// collisions per particle = 2 x pair collisions / N (the thesis' clock; 0 where the
+    /// engine has no collisions to count)
     pub collisions_per_particle: f64,
-    /// events processed so far
+    /// time steps taken (engines with a fixed step; 0 for event-driven ones)
+    pub steps: u64,
+    /// events processed so far (EDMD: all queue events; stepped engines: site or particle
+    /// updates), the measure of work done
     pub events: u64,
 }
 
-/// A point of simulated progress at which an engine stops.
+impl Progress {
+    /// The reading of one clock.
+    pub fn on(&self, clock: Clock) -> f64 {
+        match clock {
+            Clock::CollisionsPerParticle => self.collisions_per_particle,
+            Clock::Steps => self.steps as f64,
+            Clock::Time => self.time,
+        }
+    }
+}
+
+/// A point of simulated progress at which an engine stops: a reading of one of its clocks.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum StopAt {
     /// stop at the first event after which collisions per particle >= this value
     CollisionsPerParticle(f64),
-    /// stop exactly at this simulated time
+    /// stop after this many time steps
+    Steps(u64),
+    /// stop exactly at this simulated time (stepped engines: at the first step reaching it)
     Time(f64),
 }
 
-/// All particles brought to one time, with the run's counters and balances. This is what the
-/// analysis consumes; it is engine-agnostic.
+impl StopAt {
+    /// Stop when `clock` reads `value`.
+    pub fn on(clock: Clock, value: f64) -> Self {
+        match clock {
+            Clock::CollisionsPerParticle => StopAt::CollisionsPerParticle(value),
+            Clock::Steps => StopAt::Steps(value.ceil() as u64),
+            Clock::Time => StopAt::Time(value),
+        }
+    }
+
+    /// The clock it reads.
+    pub fn clock(&self) -> Clock {
+        match self {
+            StopAt::CollisionsPerParticle(_) => Clock::CollisionsPerParticle,
+            StopAt::Steps(_) => Clock::Steps,
+            StopAt::Time(_) => Clock::Time,
+        }
+    }
+}
+
+/// Spheres brought to one time: what the particle analyses consume. Engines without spins
+/// leave `angular_velocities` empty; 2D engines keep z = 0.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Snapshot {
-    /// simulated time t of the snapshot
-    pub time: f64,
-    /// collisions per particle at the snapshot
-    pub collisions_per_particle: f64,
+pub struct Particles {
     /// the box
     pub geometry: BoxGeometry,
     /// K = 4 I / (m d^2), the reduced moment of inertia (2/5 for solid spheres)
@@ -88,10 +165,8 @@ pub struct Snapshot {
     pub positions: Vec<[f64; 3]>,
     /// translational velocities c_i
     pub velocities: Vec<[f64; 3]>,
-    /// angular velocities w_i
+    /// angular velocities w_i (empty for smooth spheres)
     pub angular_velocities: Vec<[f64; 3]>,
-    /// event counters
-    pub counters: Counters,
     /// translational kinetic energy sum m c^2 / 2
     pub translational_energy: f64,
     /// rotational kinetic energy sum I w^2 / 2
@@ -104,7 +179,7 @@ pub struct Snapshot {
     pub gravity_work: f64,
 }
 
-impl Snapshot {
+impl Particles {
     /// Number of particles N.
     pub fn len(&self) -> usize {
         self.positions.len()
@@ -113,6 +188,76 @@ impl Snapshot {
     /// True when there are no particles.
     pub fn is_empty(&self) -> bool {
         self.positions.is_empty()
+    }
+
+    /// Angular velocity of particle `p` (zero for smooth spheres, which carry none).
+    #[inline]
+    pub fn spin(&self, p: usize) -> [f64; 3] {
+        self.angular_velocities.get(p).copied().unwrap_or([0.0; 3])
+    }
+}
+
+/// The state of a 2D lattice gas: occupation bits of every site.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Lattice {
+    /// L, sites along the pipe (periodic, along gravity)
+    pub length: usize,
+    /// W, sites across the pipe (between the walls)
+    pub width: usize,
+    /// one byte per site, bit k set when state k is occupied (k = 0 rest, 1..=6 moving);
+    /// site (x, y) at index y L + x
+    pub occupation: Vec<u8>,
+}
+
+/// What a snapshot holds, by kind of engine.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Content {
+    /// spheres (hard-sphere MD, DSMC, DEM)
+    Particles(Particles),
+    /// a lattice gas
+    Lattice(Lattice),
+}
+
+/// The state of an engine at one time, with its clocks and counters. Analyses consume it;
+/// the content says which kind of analysis applies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    /// clocks at the snapshot
+    pub progress: Progress,
+    /// the engine's counters, named as its declaration names them
+    pub counters: Counters,
+    /// particles or lattice
+    pub content: Content,
+}
+
+impl Snapshot {
+    /// Simulated time of the snapshot.
+    pub fn time(&self) -> f64 {
+        self.progress.time
+    }
+
+    /// The particles, for engines whose snapshots carry them.
+    pub fn particles(&self) -> Option<&Particles> {
+        match &self.content {
+            Content::Particles(p) => Some(p),
+            Content::Lattice(_) => None,
+        }
+    }
+
+    /// The particles, mutable (tests that build synthetic states).
+    pub fn particles_mut(&mut self) -> Option<&mut Particles> {
+        match &mut self.content {
+            Content::Particles(p) => Some(p),
+            Content::Lattice(_) => None,
+        }
+    }
+
+    /// The lattice, for lattice engines.
+    pub fn lattice(&self) -> Option<&Lattice> {
+        match &self.content {
+            Content::Lattice(l) => Some(l),
+            Content::Particles(_) => None,
+        }
     }
 }
 
@@ -128,40 +273,44 @@ pub enum EngineError {
     /// a checkpoint could not be read back
     #[error("checkpoint rejected: {0}")]
     Checkpoint(String),
+    /// the engine cannot be driven by this clock
+    #[error("the {engine} engine has no clock `{clock}`; its clocks: {allowed}")]
+    Clock {
+        engine: &'static str,
+        clock: &'static str,
+        allowed: String,
+    },
 }
 
 /// A simulation engine as a job sees it.
 pub trait Engine: Send {
-    /// Number of particles N.
+    /// Its declaration (name, parameters, clocks, counters, analysis).
+    fn def(&self) -> &'static EngineDef;
+    /// Number of particles N (lattice gas: particles on the lattice).
     fn particle_count(&self) -> usize;
-    /// Simulated time, collisions per particle and events so far.
+    /// Clocks and events so far.
     fn progress(&self) -> Progress;
     /// Advance until `stop` is reached (deterministically: the stopping point depends only on
     /// the state, never on wall-clock time).
     fn advance(&mut self, stop: StopAt) -> Result<(), EngineError>;
-    /// Bring all particles to the current time and report them. Taking a snapshot is part of
-    /// the deterministic trajectory (runs that snapshot at the same points agree bitwise).
+    /// Bring the state to the current time and report it. Taking a snapshot is part of the
+    /// deterministic trajectory (runs that snapshot at the same points agree bitwise).
     fn snapshot(&mut self) -> Snapshot;
-    /// The whole engine state as a versioned, checksummed byte string. Only valid directly
-    /// after `snapshot` (the deterministic synchronisation point).
+    /// The whole engine state as bytes sealed in an [`envelope`] that names the engine. Only
+    /// valid directly after `snapshot` (the deterministic synchronisation point).
     fn checkpoint(&self) -> Vec<u8>;
 }
 
-/// Which engine runs a job, with its parameters.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum EngineSpec {
-    /// event-driven rough inelastic hard spheres (thesis ch. 2)
-    Edmd(edmd::EdmdParams),
-}
-
-/// Build an engine in its initial state (placement and velocities from the seed).
-pub fn build(spec: &EngineSpec) -> Result<Box<dyn Engine>, EngineError> {
-    match spec {
-        EngineSpec::Edmd(params) => Ok(Box::new(edmd::EdmdEngine::new(params.clone())?)),
-    }
-}
-
-/// Rebuild an engine from a checkpoint written by [`Engine::checkpoint`].
+/// Rebuild an engine from checkpoint bytes written by [`Engine::checkpoint`]: the envelope
+/// names the engine, whose declaration restores it.
 pub fn restore(bytes: &[u8]) -> Result<Box<dyn Engine>, EngineError> {
-    Ok(Box::new(edmd::EdmdEngine::restore(bytes)?))
+    let sealed = envelope::open(bytes)?;
+    let def = registry::find(&sealed.engine).ok_or_else(|| {
+        EngineError::Checkpoint(format!(
+            "written by the engine \"{}\", which this granflow does not have (engines: {})",
+            sealed.engine,
+            registry::names()
+        ))
+    })?;
+    (def.restore)(sealed.version, sealed.payload)
 }

@@ -64,13 +64,13 @@ impl SweepLink for RunnerLink {
         results: Option<&Path>,
         sets: &[String],
     ) -> Result<PreparedSweep> {
-        use crate::sweep::{RESOLVED_SWEEP_FILE, load_sweep, queue};
+        use crate::sweep::{RESOLVED_SWEEP_FILE, load_sweep, store};
         let sweep = load_sweep(sweep_file, sets)?;
         let root = results.unwrap_or(Path::new(DEFAULT_RESULTS_ROOT));
         let dirs = sweep.results_dir(root);
         sweep.write_resolved(&dirs)?;
         for job in &sweep.plan {
-            queue::init_job_dir(&dirs.job_dir(&job.id), job)?;
+            store::init_job_dir(&dirs.job_dir(&job.id), job)?;
         }
         let mut plan: Vec<_> = sweep.plan.iter().collect();
         plan.sort_by_key(|j| j.index);
@@ -84,14 +84,14 @@ impl SweepLink for RunnerLink {
     }
 
     fn job_states(&self, sweep_dir: &Path, job_ids: &[String]) -> Result<Vec<JobDirState>> {
-        use crate::sweep::{JobId, open_results, queue};
+        use crate::sweep::{JobId, open_results, store};
         let (_, dirs) = open_results(sweep_dir)?;
         Ok(job_ids
             .iter()
             .map(
-                |id| match queue::job_state(&dirs.job_dir(&JobId(id.clone()))) {
-                    queue::JobState::Done => JobDirState::Done,
-                    queue::JobState::Failed(e) => JobDirState::Failed(e),
+                |id| match store::job_state(&dirs.job_dir(&JobId(id.clone()))) {
+                    store::JobState::Done => JobDirState::Done,
+                    store::JobState::Failed(e) => JobDirState::Failed(e),
                     _ => JobDirState::Unfinished,
                 },
             )

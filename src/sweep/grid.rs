@@ -1,12 +1,13 @@
 //! Grid expansion: a validated sweep spec becomes the ordered list of jobs (the plan).
 //!
 //! Plan order (relied on by `--job-range`): the grid first, as the cartesian product of the
-//! axes in the order of the parameter table ([`super::job::PARAMS`]) with the last axis varying
-//! fastest and seeds innermost; then the extra points in file order, each once per seed.
+//! axes in the order of the engine's parameter declaration with the last axis varying fastest
+//! and seeds innermost; then the extra points in file order, each once per seed.
 
-use super::job::{JobId, JobParams, PARAMS, lattice_capacity, resolve_particles};
-use super::spec::{Source, SpecError, SweepSpec};
-use std::collections::{BTreeMap, HashMap};
+use super::job::{JobId, JobParams};
+use super::spec::{Source, SpecError, SweepSpec, engine_of};
+use crate::engine::{ParamValue, Values};
+use std::collections::HashMap;
 
 /// One job of a plan.
 #[derive(Clone, Debug, PartialEq)]
@@ -20,55 +21,74 @@ pub struct PlannedJob {
 }
 
 /// Where a set of values came from, for error messages.
+#[derive(Clone, Copy)]
 enum From {
     Grid,
     Point(usize),
 }
 
+/// Put `value` for `key` into `values`, replacing `key`'s alternatives (a point's N replaces
+/// the fixed phi).
+fn put(values: &mut Values, alternatives: &[&str], key: &str, value: ParamValue) {
+    for alt in alternatives {
+        values.remove(*alt);
+    }
+    values.insert(key.to_string(), value);
+}
+
 /// Expand a validated spec into the plan.
 pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, SpecError> {
-    let fixed = spec.fixed.to_map();
-    let axes_map = spec.axes.to_map();
-    let axes: Vec<(&str, &Vec<f64>)> = PARAMS
+    let engine = engine_of(spec).expect("validated: the engine exists");
+    let analyser = engine
+        .analysis
+        .analyser(&spec.analysis)
+        .map_err(|m| src.error_at(None, "analysis", 0, m))?;
+    let analysis = analyser.settings();
+    let fixed = &spec.fixed.0;
+    let axes: Vec<(&str, &Vec<ParamValue>)> = engine
+        .params
         .iter()
-        .filter_map(|d| axes_map.get(d.name).map(|v| (d.name, v)))
+        .filter_map(|d| spec.axes.0.get(d.name).map(|v| (d.name, v)))
         .collect();
-    let mut points: Vec<(From, BTreeMap<String, f64>)> = Vec::new();
+    let mut points: Vec<(From, Values)> = Vec::new();
     let combos: usize = axes.iter().map(|(_, v)| v.len()).product();
     for mut i in 0..combos {
         let mut values = fixed.clone();
-        let mut picks = vec![0.0; axes.len()];
+        let mut picks = vec![None; axes.len()];
         for (k, (_, vals)) in axes.iter().enumerate().rev() {
-            picks[k] = vals[i % vals.len()];
+            picks[k] = Some(vals[i % vals.len()].clone());
             i /= vals.len();
         }
         for (k, (name, _)) in axes.iter().enumerate() {
-            values.insert(name.to_string(), picks[k]);
+            values.insert(name.to_string(), picks[k].take().expect("picked"));
         }
         points.push((From::Grid, values));
     }
     for (i, point) in spec.points.iter().enumerate() {
         let mut values = fixed.clone();
-        values.extend(point.to_map());
+        for (k, v) in &point.0 {
+            put(&mut values, &engine.alternatives_of(k), k, v.clone());
+        }
         points.push((From::Point(i), values));
     }
     let mut plan = Vec::new();
     let mut seen: HashMap<JobId, usize> = HashMap::new();
     for (from, mut values) in points {
-        let axes_keys = spec.axes.to_map();
-        let fixed_keys = spec.fixed.to_map();
         let at = |key: &str, message: String| match from {
             From::Grid => {
-                let section = if axes_keys.contains_key(key) {
+                let section = if spec.axes.0.contains_key(key) {
                     Some("axes")
-                } else if fixed_keys.contains_key(key) {
+                } else if spec.fixed.0.contains_key(key) {
                     Some("fixed")
                 } else if spec.linked.iter().any(|l| l.param == key) {
                     Some("linked")
                 } else {
                     None
                 };
-                src.error_at(section, key, 0, message)
+                match section {
+                    Some(s) => src.error_at(Some(s), key, 0, message),
+                    None => src.error_at(None, "fixed", 0, message),
+                }
             }
             From::Point(i) => {
                 src.error_at(None, "points", 0, format!("point {}: {message}", i + 1))
@@ -76,93 +96,27 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
         };
         for link in &spec.linked {
             let explicit =
-                matches!(from, From::Point(i) if spec.points[i].to_map().contains_key(&link.param));
-            if !explicit && let Some(&followed) = values.get(&link.follows) {
-                values.insert(link.param.clone(), link.factor * followed);
-            }
-        }
-        for def in PARAMS {
-            if !values.contains_key(def.name)
-                && let Some(d) = def.default
+                matches!(from, From::Point(i) if spec.points[i].0.contains_key(&link.param));
+            if !explicit && let Some(followed) = values.get(&link.follows).and_then(ParamValue::as_f64)
             {
-                values.insert(def.name.into(), d);
+                put(
+                    &mut values,
+                    &engine.alternatives_of(&link.param),
+                    &link.param,
+                    ParamValue::Number(link.factor * followed),
+                );
             }
         }
-        for required in [
-            "length_over_width",
-            "width_over_diameter",
-            "height_over_diameter",
-        ] {
-            if !values.contains_key(required) {
-                return Err(src.error_at(
-                    None,
-                    "fixed",
-                    0,
-                    format!("`{required}` is not given: set it in `fixed`, `axes`, `linked` or every point"),
-                ));
-            }
-        }
-        if !values.contains_key("particles") && !values.contains_key("volume_fraction") {
-            return Err(src.error_at(
-                None,
-                "fixed",
-                0,
-                "neither `volume_fraction` nor `particles` is given: N follows from phi unless given".into(),
-            ));
-        }
-        for def in PARAMS {
-            if let Some(&v) = values.get(def.name)
-                && !(def.check)(v)
-            {
-                return Err(at(
-                    def.name,
-                    format!(
-                        "{} ({}) = {v} is out of range: allowed {}",
-                        def.name, def.symbol, def.allowed
-                    ),
-                ));
-            }
-        }
-        let requested_phi = values.get("volume_fraction").copied();
-        resolve_particles(&mut values);
+        let values = engine
+            .resolve_values(&values)
+            .map_err(|p| at(&p.key, p.message))?;
         let probe = JobParams {
             engine: spec.engine.clone(),
-            values: values.clone(),
+            values,
             seed: 0,
             run: spec.run.clone(),
-            analysis: spec.analysis.clone(),
+            analysis: analysis.clone(),
         };
-        let g = probe.geometry();
-        if g.length < 3.0 {
-            return Err(at(
-                "length_over_width",
-                format!(
-                    "L = (L/W)(W/d) = {} is too short: allowed L >= 3 particle diameters",
-                    g.length
-                ),
-            ));
-        }
-        let n = probe.particles() as f64;
-        let capacity = lattice_capacity(&g);
-        if n < 1.0 || n > capacity {
-            let key = if requested_phi.is_some() && spec.fixed.particles.is_none() {
-                "volume_fraction"
-            } else {
-                "particles"
-            };
-            return Err(at(
-                key,
-                format!(
-                    "phi = {:.4} (N = {n}) cannot be placed in the {} x {} x {} channel: allowed 1 <= N <= {capacity} \
-                     (phi <= {:.4}, a lattice of spacing d)",
-                    probe.get("volume_fraction"),
-                    g.length,
-                    g.width,
-                    g.height,
-                    capacity * std::f64::consts::PI / 6.0 / g.volume()
-                ),
-            ));
-        }
         for &seed in &spec.seeds {
             let params = JobParams {
                 seed,
@@ -170,8 +124,9 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
             };
             let id = params.id();
             if let Some(&other) = seen.get(&id) {
+                let first = engine.params.first().map_or("fixed", |d| d.name);
                 return Err(at(
-                    "length_over_width",
+                    first,
                     format!(
                         "duplicate point: it resolves to the same job ({id}, seed {seed}) as job {} of the plan; \
                          each point may appear once",

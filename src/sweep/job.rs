@@ -1,209 +1,42 @@
-//! Sweep parameters and job identity: the parameter table (names, symbols, defaults, allowed
-//! ranges), a job's resolved parameters ([`JobParams`]) and its id ([`JobId`]), the hash of
-//! their canonical form.
+//! Job identity: a job's resolved parameters ([`JobParams`]) and its id ([`JobId`]), the hash
+//! of their canonical form, and the run settings ([`RunSettings`]).
 //!
 //! Canonical form (the id contract, documented in README "## Sweeps"): a JSON object with keys
 //! sorted, no whitespace, numbers in Rust's shortest round-trip notation:
 //! `{"analysis":{..},"engine":"edmd","params":{..},"run":{..},"seed":S}` where `params` holds
-//! every physical parameter of [`PARAMS`] with `in_id_at_default = true` (the resolved value,
-//! even when it equals the default) plus the others only when they differ from their default,
-//! and `analysis` holds only the analysis settings that differ from their defaults. The id is
-//! the first 16 hex digits of SHA-256 of that text. So adding a new optional parameter (entered
-//! in [`PARAMS`] with `in_id_at_default = false`) or a new analysis setting leaves every
-//! existing id unchanged.
+//! the engine's declared parameters ([`crate::engine::EngineDef::params`]): those marked
+//! [`InId::Always`] with their resolved value (even at the default), those marked
+//! [`InId::AwayFromDefault`] only where they differ from the default, and never those marked
+//! [`InId::Never`] (derived ones, like phi from N); `run` holds the run length on its clock
+//! (`collisions_per_particle`, `steps` or `time`) and `snapshot_interval`; `analysis` holds
+//! only the analysis settings that differ from their defaults. The id is the first 16 hex
+//! digits of SHA-256 of that text. So adding a new optional parameter (declared with
+//! `AwayFromDefault`) or a new analysis setting leaves every existing id unchanged.
 
-use crate::analysis::AnalysisSettings;
-use crate::engine::edmd::{EdmdParams, particles_for_volume_fraction};
-use crate::engine::{BoxGeometry, EngineSpec};
+use crate::engine::declare::InId;
+use crate::engine::{Clock, EngineDef, EngineError, ParamDef, ParamValue, Values, registry};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::fmt;
 
-/// One sweepable parameter.
-#[derive(Clone, Copy, Debug)]
-pub struct ParamDef {
-    /// the key in sweep files, `--set`, tables
-    pub name: &'static str,
-    /// the physics symbol
-    pub symbol: &'static str,
-    /// default value; None: the sweep must give it
-    pub default: Option<f64>,
-    /// the value must be a whole number
-    pub integer: bool,
-    /// the allowed range, as told to the user
-    pub allowed: &'static str,
-    /// the range check
-    pub check: fn(f64) -> bool,
-    /// true for the parameters of the first id scheme: always part of the canonical form.
-    /// Parameters added later must say false (they enter the id only away from their default).
-    pub in_id_at_default: bool,
-}
-
-fn finite_positive(v: f64) -> bool {
-    v.is_finite() && v > 0.0
-}
-fn side(v: f64) -> bool {
-    v.is_finite() && v >= 3.0
-}
-fn unit(v: f64) -> bool {
-    (0.0..=1.0).contains(&v)
-}
-fn signed_unit(v: f64) -> bool {
-    (-1.0..=1.0).contains(&v)
-}
-fn non_negative(v: f64) -> bool {
-    v.is_finite() && v >= 0.0
-}
-fn fraction(v: f64) -> bool {
-    v.is_finite() && v > 0.0 && v < std::f64::consts::PI / 6.0
-}
-fn inertia(v: f64) -> bool {
-    v.is_finite() && v > 0.0 && v <= 1.0
-}
-fn count(v: f64) -> bool {
-    v.is_finite() && v >= 1.0 && v.fract() == 0.0 && v <= 1e9
-}
-
-/// The sweepable parameters, in expansion order (the last swept one varies fastest).
-pub const PARAMS: &[ParamDef] = &[
-    ParamDef {
-        name: "length_over_width",
-        symbol: "L/W",
-        default: None,
-        integer: false,
-        allowed: "a finite value > 0 with L = (L/W)(W/d) >= 3",
-        check: finite_positive,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "width_over_diameter",
-        symbol: "W/d",
-        default: None,
-        integer: false,
-        allowed: "a finite value >= 3 (channel width in particle diameters)",
-        check: side,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "height_over_diameter",
-        symbol: "H/d",
-        default: None,
-        integer: false,
-        allowed: "a finite value >= 3 (spanwise extent in particle diameters)",
-        check: side,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "volume_fraction",
-        symbol: "phi",
-        default: None,
-        integer: false,
-        allowed: "0 < phi < pi/6 (and placeable in the box)",
-        check: fraction,
-        in_id_at_default: false,
-    },
-    ParamDef {
-        name: "particles",
-        symbol: "N",
-        default: None,
-        integer: true,
-        allowed: "a whole number >= 1 (default: from volume_fraction)",
-        check: count,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "restitution",
-        symbol: "e",
-        default: Some(0.7),
-        integer: false,
-        allowed: "[0, 1]",
-        check: unit,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "roughness",
-        symbol: "beta",
-        default: Some(0.1),
-        integer: false,
-        allowed: "[-1, 1]",
-        check: signed_unit,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "wall_restitution",
-        symbol: "e_w",
-        default: Some(0.99),
-        integer: false,
-        allowed: "[0, 1]",
-        check: unit,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "wall_roughness",
-        symbol: "beta_w",
-        default: Some(0.99),
-        integer: false,
-        allowed: "[-1, 1]",
-        check: signed_unit,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "inertia_factor",
-        symbol: "K",
-        default: Some(0.4),
-        integer: false,
-        allowed: "(0, 1] (2/5 solid sphere, 2/3 thin shell)",
-        check: inertia,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "gravity",
-        symbol: "g",
-        default: Some(1.0),
-        integer: false,
-        allowed: "a finite value >= 0",
-        check: non_negative,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "tc",
-        symbol: "t_c",
-        default: Some(EdmdParams::DEFAULT_TC),
-        integer: false,
-        allowed: "a finite time >= 0 (0 switches the TC model off)",
-        check: non_negative,
-        in_id_at_default: true,
-    },
-    ParamDef {
-        name: "initial_temperature",
-        symbol: "T_0",
-        default: Some(0.01),
-        integer: false,
-        allowed: "a finite value > 0",
-        check: finite_positive,
-        in_id_at_default: true,
-    },
-];
-
-/// The definition of a parameter by name.
-pub fn param_def(name: &str) -> Option<&'static ParamDef> {
-    PARAMS.iter().find(|d| d.name == name)
-}
-
-/// The names of all parameters (for error messages).
-pub fn param_names() -> String {
-    PARAMS.iter().map(|d| d.name).collect::<Vec<_>>().join(", ")
-}
-
-/// Run length and snapshot cadence of a job, in collisions per particle.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Run length and snapshot cadence of a job, on one of the engine's clocks: exactly one of
+/// `collisions_per_particle`, `steps` and `time` gives the length, and `snapshot_interval` is
+/// in the same unit.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunSettings {
     /// run length in collisions per particle
-    pub collisions_per_particle: f64,
-    /// a snapshot (analysis record) every this many collisions per particle
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collisions_per_particle: Option<f64>,
+    /// run length in time steps
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps: Option<f64>,
+    /// run length in simulated time
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
+    /// a snapshot (analysis record) every this much of the run's clock
     pub snapshot_interval: f64,
     /// write a checkpoint every this many snapshots (a deterministic cadence of simulated
     /// progress; it does not change results, so it is not part of the job id)
@@ -216,30 +49,144 @@ fn default_checkpoint_every() -> u32 {
 }
 
 impl RunSettings {
-    /// Number of snapshots after the initial one: ceil(run length / interval).
-    pub fn snapshot_count(&self) -> u32 {
-        (self.collisions_per_particle / self.snapshot_interval).ceil() as u32
+    /// A run of `length` on `clock` with a snapshot every `interval`.
+    pub fn new(clock: Clock, length: f64, interval: f64) -> Self {
+        let mut run = RunSettings {
+            snapshot_interval: interval,
+            checkpoint_every: 1,
+            ..Default::default()
+        };
+        run.set_length(clock, length);
+        run
     }
 
-    /// Collisions per particle of snapshot k (k = 0 is the initial state).
+    fn slot(&mut self, clock: Clock) -> &mut Option<f64> {
+        match clock {
+            Clock::CollisionsPerParticle => &mut self.collisions_per_particle,
+            Clock::Steps => &mut self.steps,
+            Clock::Time => &mut self.time,
+        }
+    }
+
+    /// Set the run length on `clock` (clearing the others).
+    pub fn set_length(&mut self, clock: Clock, length: f64) {
+        for c in Clock::ALL {
+            *self.slot(c) = None;
+        }
+        *self.slot(clock) = Some(length);
+    }
+
+    /// The lengths given, by clock.
+    fn given(&self) -> Vec<(Clock, f64)> {
+        [
+            (Clock::CollisionsPerParticle, self.collisions_per_particle),
+            (Clock::Steps, self.steps),
+            (Clock::Time, self.time),
+        ]
+        .into_iter()
+        .filter_map(|(c, v)| v.map(|v| (c, v)))
+        .collect()
+    }
+
+    /// The run's clock (valid after [`RunSettings::validate`]).
+    pub fn clock(&self) -> Clock {
+        self.given()
+            .first()
+            .map_or(Clock::CollisionsPerParticle, |g| g.0)
+    }
+
+    /// The run length on its clock.
+    pub fn length(&self) -> f64 {
+        self.given().first().map_or(f64::NAN, |g| g.1)
+    }
+
+    /// Check against an engine's clocks: one length, finite and > 0, on a clock the engine
+    /// has; 0 < interval <= length with at most 1e6 snapshots; checkpoint_every >= 1. The
+    /// error names the key.
+    pub fn validate(&self, engine: &EngineDef) -> Result<(), (&'static str, String)> {
+        let given = self.given();
+        let &[(clock, length)] = given.as_slice() else {
+            let key = given.get(1).map_or("snapshot_interval", |g| g.0.key());
+            return Err((
+                key,
+                format!(
+                    "give exactly one run length: one of {} (the {} engine's clocks)",
+                    engine.clock_names(),
+                    engine.name
+                ),
+            ));
+        };
+        if !engine.has_clock(clock) {
+            return Err((
+                clock.key(),
+                format!(
+                    "the {} engine cannot measure a run in `{}`; allowed: {}",
+                    engine.name,
+                    clock.key(),
+                    engine.clock_names()
+                ),
+            ));
+        }
+        if !(length.is_finite() && length > 0.0) {
+            return Err((
+                clock.key(),
+                format!("{length} is out of range: allowed a finite value > 0"),
+            ));
+        }
+        if clock == Clock::Steps && length.fract() != 0.0 {
+            return Err((
+                clock.key(),
+                format!("{length} is not a whole number of steps"),
+            ));
+        }
+        let interval = self.snapshot_interval;
+        if !(interval.is_finite()
+            && interval > 0.0
+            && interval <= length
+            && length / interval <= 1e6)
+        {
+            return Err((
+                "snapshot_interval",
+                format!(
+                    "{interval} is out of range: allowed 0 < snapshot_interval <= {} ({length}), at most 1e6 snapshots",
+                    clock.key()
+                ),
+            ));
+        }
+        if self.checkpoint_every == 0 {
+            return Err((
+                "checkpoint_every",
+                "0 is out of range: allowed a whole number >= 1 (snapshots between checkpoints)"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Number of snapshots after the initial one: ceil(run length / interval).
+    pub fn snapshot_count(&self) -> u32 {
+        (self.length() / self.snapshot_interval).ceil() as u32
+    }
+
+    /// The clock reading of snapshot k (k = 0 is the initial state).
     pub fn snapshot_target(&self, k: u32) -> f64 {
-        (k as f64 * self.snapshot_interval).min(self.collisions_per_particle)
+        (k as f64 * self.snapshot_interval).min(self.length())
     }
 }
 
-/// Everything that defines one job, resolved (defaults filled in, N computed).
+/// Everything that defines one job, resolved (defaults filled in, derived values computed).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct JobParams {
-    /// the engine name ("edmd")
+    /// the engine name (a name of the registry)
     pub engine: String,
-    /// every parameter of [`PARAMS`] by name (volume_fraction is the one N gives)
-    pub values: BTreeMap<String, f64>,
+    /// every declared parameter of the engine by name, resolved (derived ones included)
+    pub values: Values,
     /// seed of the engine's RNG
     pub seed: u64,
     /// run length and snapshots
     pub run: RunSettings,
-    /// analysis settings
-    pub analysis: AnalysisSettings,
+    /// the analysis settings, resolved (all keys)
+    pub analysis: Value,
 }
 
 /// A job's id: 16 hex digits of the SHA-256 of its canonical parameters.
@@ -254,86 +201,48 @@ impl fmt::Display for JobId {
 }
 
 impl JobParams {
-    /// Value of a parameter (every parameter is present after resolution).
+    /// The engine's declaration (the registry holds every engine a valid job can name).
+    pub fn def(&self) -> &'static EngineDef {
+        registry::find(&self.engine).expect("a job names a registered engine")
+    }
+
+    /// Value of a numeric parameter (NaN when it is absent or a name).
     pub fn get(&self, name: &str) -> f64 {
-        self.values.get(name).copied().unwrap_or(f64::NAN)
+        self.values
+            .get(name)
+            .and_then(ParamValue::as_f64)
+            .unwrap_or(f64::NAN)
     }
 
-    /// Number of spheres N.
-    pub fn particles(&self) -> usize {
-        self.get("particles") as usize
+    /// The job's size as its engine counts it (N for particle engines).
+    pub fn size(&self) -> f64 {
+        (self.def().size)(&self.values)
     }
 
-    /// The channel box: L = (L/W) W, W, H, walls at y = 0, W.
-    pub fn geometry(&self) -> BoxGeometry {
-        let w = self.get("width_over_diameter");
-        BoxGeometry {
-            length: self.get("length_over_width") * w,
-            width: w,
-            height: self.get("height_over_diameter"),
-            walls: true,
-        }
+    /// Build the job's engine in its initial state.
+    pub fn build_engine(&self) -> Result<Box<dyn crate::engine::Engine>, EngineError> {
+        (self.def().build)(&self.values, self.seed)
     }
 
-    /// The engine spec of this job.
-    pub fn engine_spec(&self) -> EngineSpec {
-        let mut p = EdmdParams::channel(1.0, 1.0, 1.0, 0.0, self.seed);
-        p.geometry = self.geometry();
-        p.particles = self.particles();
-        p.restitution = self.get("restitution");
-        p.roughness = self.get("roughness");
-        p.wall_restitution = self.get("wall_restitution");
-        p.wall_roughness = self.get("wall_roughness");
-        p.inertia_factor = self.get("inertia_factor");
-        p.gravity = self.get("gravity");
-        p.tc = self.get("tc");
-        p.initial_temperature = self.get("initial_temperature");
-        EngineSpec::Edmd(p)
-    }
-
-    /// Estimated work in collisions: N x collisions per particle / 2 (the sort key of the pool).
+    /// Estimated work of the job in its engine's work units (the sort key of the pool).
     pub fn estimated_work(&self) -> f64 {
-        self.particles() as f64 * self.run.collisions_per_particle / 2.0
+        (self.def().work)(&self.values, self.run.clock(), self.run.length())
     }
 
     /// The canonical text that the id hashes (see the module docs).
     pub fn canonical(&self) -> String {
-        canonical_with(PARAMS, self)
+        canonical_with(self.def().params, self)
     }
 
     /// The job id.
     pub fn id(&self) -> JobId {
         id_of_canonical(&self.canonical())
     }
-}
 
-/// Resolve N from phi (when N is not given) and phi from N: N = round(phi L W H / (pi/6)).
-pub fn resolve_particles(values: &mut BTreeMap<String, f64>) {
-    let w = values["width_over_diameter"];
-    let geometry = BoxGeometry {
-        length: values["length_over_width"] * w,
-        width: w,
-        height: values["height_over_diameter"],
-        walls: true,
-    };
-    if !values.contains_key("particles") {
-        let phi = values.get("volume_fraction").copied().unwrap_or(f64::NAN);
-        values.insert(
-            "particles".into(),
-            particles_for_volume_fraction(&geometry, phi) as f64,
-        );
+    /// The analysis of this job's engine with the job's settings.
+    pub fn analyser(&self) -> Result<crate::analysis::Analyser, String> {
+        self.def().analysis.analyser(&self.analysis)
     }
-    let n = values["particles"];
-    values.insert(
-        "volume_fraction".into(),
-        n * std::f64::consts::PI / 6.0 / geometry.volume(),
-    );
-}
-
-/// How many spheres fit on a lattice of spacing d in the channel (what the engine's lattice
-/// placement can do at best): floor(L) x (floor(W - 1) + 1) x floor(H).
-pub fn lattice_capacity(geometry: &BoxGeometry) -> f64 {
-    geometry.length.floor() * ((geometry.width - 1.0).floor() + 1.0) * geometry.height.floor()
 }
 
 /// The canonical form over a given parameter table (the table is an argument so that tests can
@@ -341,31 +250,31 @@ pub fn lattice_capacity(geometry: &BoxGeometry) -> f64 {
 pub fn canonical_with(table: &[ParamDef], job: &JobParams) -> String {
     let mut params = BTreeMap::new();
     for def in table {
-        if def.name == "volume_fraction" {
-            continue; // derived from N and the box: N is the physical input
-        }
-        let Some(&v) = job.values.get(def.name) else {
+        let Some(v) = job.values.get(def.name) else {
             continue;
         };
-        if def.in_id_at_default || def.default != Some(v) {
-            params.insert(def.name.to_string(), number(v));
+        let keep = match def.in_id {
+            InId::Always => true,
+            InId::AwayFromDefault => def.default.value().as_ref() != Some(v),
+            InId::Never => false,
+        };
+        if keep {
+            params.insert(def.name.to_string(), param_json(v));
         }
     }
-    let analysis_default = serde_json::to_value(AnalysisSettings::default()).unwrap_or(Value::Null);
-    let analysis_now = serde_json::to_value(&job.analysis).unwrap_or(Value::Null);
+    let defaults = registry::find(&job.engine)
+        .map(|e| e.analysis.default_settings())
+        .unwrap_or(Value::Null);
     let mut analysis = BTreeMap::new();
-    if let Value::Object(now) = analysis_now {
+    if let Value::Object(now) = &job.analysis {
         for (k, v) in now {
-            if analysis_default.get(&k) != Some(&v) {
-                analysis.insert(k, v);
+            if defaults.get(k) != Some(v) {
+                analysis.insert(k.clone(), v.clone());
             }
         }
     }
     let mut run = BTreeMap::new();
-    run.insert(
-        "collisions_per_particle".to_string(),
-        number(job.run.collisions_per_particle),
-    );
+    run.insert(job.run.clock().key().to_string(), number(job.run.length()));
     run.insert(
         "snapshot_interval".to_string(),
         number(job.run.snapshot_interval),
@@ -385,6 +294,13 @@ pub fn canonical_with(table: &[ParamDef], job: &JobParams) -> String {
     let mut out = String::new();
     write_canonical(&Value::Object(top.into_iter().collect()), &mut out);
     out
+}
+
+fn param_json(v: &ParamValue) -> Value {
+    match v {
+        ParamValue::Number(x) => number(*x),
+        ParamValue::Text(s) => Value::String(s.clone()),
+    }
 }
 
 /// The id of a canonical text: the first 16 hex digits of its SHA-256.

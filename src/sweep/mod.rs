@@ -6,7 +6,8 @@
 //!   resolved spec and its [`Sweep::plan`], the ordered jobs with id and parameters);
 //! - [`Sweep::results_dir`] / [`open_results`]: where a sweep's results live, and reading a
 //!   sweep back from its results directory alone ([`SweepDirs`]: tables dir + jobs dir);
-//! - [`queue`]: job directories, states ([`queue::job_state`]), claims (OS file locks);
+//! - [`store`]: the job directories and their files: states ([`store::job_state`]), claims (OS
+//!   file locks), checkpoints, results;
 //! - [`execute::run_job`]: run one claimed job (checkpointed, resumable);
 //! - [`runner::run_sweep`]: the rayon pool with progress bars and a single writer;
 //! - [`tables::gather`]: write the Parquet tables of a results directory.
@@ -15,9 +16,9 @@ pub mod execute;
 pub mod grid;
 pub mod job;
 pub mod phase;
-pub mod queue;
 pub mod runner;
 pub mod spec;
+pub mod store;
 pub mod tables;
 
 pub use grid::PlannedJob;
@@ -92,6 +93,11 @@ pub fn load_sweep(path: &Path, overrides: &[String]) -> Result<Sweep, SpecError>
 }
 
 impl Sweep {
+    /// The sweep's engine (a loaded sweep names one of the registry).
+    pub fn engine(&self) -> &'static crate::engine::EngineDef {
+        spec::engine_of(&self.spec).expect("a loaded sweep names a registered engine")
+    }
+
     /// Where this sweep's results go under a results root (default `results`): tables in
     /// `<root>/<name>/` (or `<root>/<name>/runs/<overrides>/` when `--set` was used, so that
     /// runs with different overrides never share tables), jobs in `<root>/<name>/jobs/` (shared:

@@ -3,6 +3,8 @@
 //! one marker per structure, hump counts written beside S-wave markers (as thesis Fig. 5.25).
 
 use super::tables::GatheredJob;
+use crate::engine::declare::ParamDefault;
+use crate::engine::{EngineDef, ParamValue};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
@@ -61,75 +63,92 @@ impl Cell {
 pub struct PhaseDiagram {
     pub x: String,
     pub y: Option<String>,
-    pub xs: Vec<f64>,
-    pub ys: Vec<f64>,
+    pub xs: Vec<ParamValue>,
+    pub ys: Vec<ParamValue>,
     /// cells by (x index, y index)
     pub cells: BTreeMap<(usize, usize), Cell>,
 }
 
-/// Parameters that take more than one value over the jobs (the ones worth plotting). N and
-/// phi count only when the sweep itself varies them (not when they follow from the box).
+/// Parameters that take more than one value over the jobs (the ones worth plotting). Derived
+/// parameters (N and phi of EDMD) count only when the sweep itself varies them (not when they
+/// follow from the box).
 pub fn swept_in(sweep: &super::Sweep, jobs: &[GatheredJob]) -> Vec<&'static str> {
-    let axes = sweep.spec.axes.to_map();
-    let in_points = |name: &str| {
-        sweep
-            .spec
-            .points
-            .iter()
-            .any(|p| p.to_map().contains_key(name))
+    let Some(engine) = super::spec::engine_of(&sweep.spec) else {
+        return Vec::new();
     };
-    super::job::PARAMS
+    let in_points = |name: &str| sweep.spec.points.iter().any(|p| p.0.contains_key(name));
+    engine
+        .params
         .iter()
         .filter(|d| {
-            let derived = d.name == "particles" || d.name == "volume_fraction";
-            (!derived || axes.contains_key(d.name) || in_points(d.name))
+            let derived = d.default == ParamDefault::Derived;
+            (!derived || sweep.spec.axes.0.contains_key(d.name) || in_points(d.name))
                 && distinct(jobs, d.name).len() > 1
         })
         .map(|d| d.name)
         .collect()
 }
 
-fn distinct(jobs: &[GatheredJob], name: &str) -> Vec<f64> {
-    let mut vals: Vec<f64> = jobs.iter().map(|j| j.job.params.get(name)).collect();
-    vals.sort_by(f64::total_cmp);
+/// Numbers before names; numbers by value, names alphabetically.
+fn value_order(a: &ParamValue, b: &ParamValue) -> std::cmp::Ordering {
+    match (a, b) {
+        (ParamValue::Number(x), ParamValue::Number(y)) => x.total_cmp(y),
+        (ParamValue::Number(_), ParamValue::Text(_)) => std::cmp::Ordering::Less,
+        (ParamValue::Text(_), ParamValue::Number(_)) => std::cmp::Ordering::Greater,
+        (ParamValue::Text(x), ParamValue::Text(y)) => x.cmp(y),
+    }
+}
+
+fn distinct(jobs: &[GatheredJob], name: &str) -> Vec<ParamValue> {
+    let mut vals: Vec<ParamValue> = jobs
+        .iter()
+        .filter_map(|j| j.job.params.values.get(name).cloned())
+        .collect();
+    vals.sort_by(value_order);
     vals.dedup();
     vals
 }
 
 impl PhaseDiagram {
-    /// Place the jobs. `x` and `y` must be parameter names (see [`super::job::PARAMS`]).
-    pub fn build(jobs: &[GatheredJob], x: &str, y: Option<&str>) -> Result<Self, String> {
+    /// Place the jobs. `x` and `y` must be parameters of the engine of the jobs.
+    pub fn build(
+        engine: &EngineDef,
+        jobs: &[GatheredJob],
+        x: &str,
+        y: Option<&str>,
+    ) -> Result<Self, String> {
         for name in std::iter::once(x).chain(y) {
-            if super::job::param_def(name).is_none() {
+            if engine.param(name).is_none() {
                 return Err(format!(
-                    "`{name}` is not a parameter; allowed: {}",
-                    super::job::param_names()
+                    "`{name}` is not a parameter of the {} engine; allowed: {}",
+                    engine.name,
+                    engine.param_names()
                 ));
             }
         }
         let xs = distinct(jobs, x);
         let ys = match y {
             Some(y) => distinct(jobs, y),
-            None => vec![0.0],
+            None => vec![ParamValue::Number(0.0)],
         };
         let mut cells: BTreeMap<(usize, usize), Cell> = BTreeMap::new();
+        let index = |axis: &[ParamValue], j: &GatheredJob, name: &str| {
+            j.job
+                .params
+                .values
+                .get(name)
+                .and_then(|v| axis.iter().position(|a| a == v))
+                .unwrap_or(0)
+        };
         for j in jobs {
-            let xi = xs
-                .iter()
-                .position(|&v| v == j.job.params.get(x))
-                .unwrap_or(0);
-            let yi = match y {
-                Some(y) => ys
-                    .iter()
-                    .position(|&v| v == j.job.params.get(y))
-                    .unwrap_or(0),
-                None => 0,
-            };
+            let xi = index(&xs, j, x);
+            let yi = y.map_or(0, |y| index(&ys, j, y));
             let cell = cells.entry((xi, yi)).or_default();
             match &j.result {
-                Some(r) => cell
-                    .labels
-                    .push((r.analysis.summary.label.clone(), r.analysis.summary.humps)),
+                Some(r) => {
+                    let (label, humps) = r.analysis.label();
+                    cell.labels.push((label.to_string(), humps))
+                }
                 None => cell.not_done += 1,
             }
         }
@@ -151,12 +170,12 @@ impl PhaseDiagram {
         };
         rows.push(
             std::iter::once(corner)
-                .chain(self.xs.iter().map(|v| fmt_value(*v)))
+                .chain(self.xs.iter().map(fmt_value))
                 .collect(),
         );
         for yi in (0..self.ys.len()).rev() {
             let head = match &self.y {
-                Some(_) => fmt_value(self.ys[yi]),
+                Some(_) => fmt_value(&self.ys[yi]),
                 None => "structure".into(),
             };
             let mut row = vec![head];
@@ -248,7 +267,7 @@ impl PhaseDiagram {
                 BLACK,
             ))?;
             root.draw(&Text::new(
-                fmt_value(*v),
+                fmt_value(v),
                 (px(xi) - 12, top + plot_h + 10),
                 small.clone(),
             ))?;
@@ -265,7 +284,7 @@ impl PhaseDiagram {
                     BLACK,
                 ))?;
                 root.draw(&Text::new(
-                    fmt_value(*v),
+                    fmt_value(v),
                     (left - 45, py(yi) - 3),
                     small.clone(),
                 ))?;
@@ -402,7 +421,11 @@ fn encode_png(rgb: &[u8], w: u32, h: u32) -> std::io::Result<Vec<u8>> {
     Ok(out)
 }
 
-/// A parameter value as written in tables and plots (shortest round-trip form).
-pub fn fmt_value(v: f64) -> String {
-    format!("{v}")
+/// A parameter value as written in tables and plots (numbers in shortest round-trip form,
+/// names as they are).
+pub fn fmt_value(v: &ParamValue) -> String {
+    match v {
+        ParamValue::Number(x) => format!("{x}"),
+        ParamValue::Text(s) => s.clone(),
+    }
 }

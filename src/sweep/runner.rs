@@ -2,9 +2,9 @@
 //! work first), shows one progress line for the sweep and one per running job, and hands every
 //! outcome to a single writer thread over a crossbeam channel.
 
-use super::execute::{self, JobEnd, JobResult};
+use super::execute::{self, JobEnd};
 use super::grid::PlannedJob;
-use super::queue::{self, Claim, JobState, NotClaimed};
+use super::store::{self, Claim, JobResult, JobState, NotClaimed};
 use super::{Sweep, SweepDirs, tables};
 use crossbeam_channel::unbounded;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -82,8 +82,8 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     let mut todo = Vec::new();
     for job in &selected {
         let dir = dirs.job_dir(&job.id);
-        queue::init_job_dir(&dir, job)?;
-        match queue::job_state(&dir) {
+        store::init_job_dir(&dir, job)?;
+        match store::job_state(&dir) {
             JobState::Done => summary.already_done += 1,
             JobState::Failed(_) if !opts.retry_failed => summary.skipped_failed += 1,
             _ => todo.push(*job),
@@ -149,22 +149,22 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                 let job = &sweep.plan[msg.job];
                 let dir = &msg.claim.dir;
                 let line = match &msg.outcome {
-                    Outcome::Finished(result) => match execute::write_result(dir, result) {
+                    Outcome::Finished(result) => match store::write_result(dir, result) {
                         Ok(()) => {
-                            let _ = queue::log(dir, "done");
+                            let _ = store::log(dir, "done");
                             counts.lock().expect("counts").0 += 1;
                             format!(
                                 "done    {} [{}]: {} ({} humps), {:.1} s, {:.3e} events/s",
                                 job.id,
                                 job.index,
-                                result.analysis.summary.label,
-                                result.analysis.summary.humps,
+                                result.analysis.label().0,
+                                result.analysis.label().1,
                                 result.wall_seconds,
                                 result.events_per_second
                             )
                         }
                         Err(e) => {
-                            let _ = queue::mark_failed(dir, &format!("writing the result: {e:#}"));
+                            let _ = store::mark_failed(dir, &format!("writing the result: {e:#}"));
                             counts.lock().expect("counts").1 += 1;
                             format!(
                                 "FAILED  {} [{}]: writing the result: {e:#}",
@@ -173,7 +173,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         }
                     },
                     Outcome::Failed(err) => {
-                        let _ = queue::mark_failed(dir, err);
+                        let _ = store::mark_failed(dir, err);
                         counts.lock().expect("counts").1 += 1;
                         format!("FAILED  {} [{}]: {err}", job.id, job.index)
                     }
@@ -193,7 +193,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         let i = next.fetch_add(1, Ordering::Relaxed);
                         let Some(job) = todo.get(i) else { break };
                         let dir = dirs.job_dir(&job.id);
-                        let claim = match queue::try_claim(&dir, opts.retry_failed) {
+                        let claim = match store::try_claim(&dir, opts.retry_failed) {
                             Ok(Ok(c)) => c,
                             Ok(Err(NotClaimed::Busy)) => {
                                 busy.fetch_add(1, Ordering::Relaxed);
@@ -219,20 +219,21 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                                 .progress_chars("=> "),
                         );
                         bar.set_prefix(job.id.0.clone());
-                        let n = job.params.particles() as f64;
-                        let mut last_cpp = execute::checkpoint_progress(&dir).unwrap_or(0.0);
-                        overall.inc((last_cpp * n / 2.0) as u64);
+                        // work per unit of the run's clock (the estimate is linear in it)
+                        let work_per_clock =
+                            job.params.estimated_work() / job.params.run.length();
+                        let unit = job.params.run.clock().unit();
+                        let mut last = store::checkpoint_progress(&dir).unwrap_or(0.0);
+                        overall.inc((last * work_per_clock) as u64);
                         let mut on_progress = |p: execute::JobProgress| {
-                            bar.set_position(
-                                (1000.0 * p.collisions_per_particle / p.target) as u64,
-                            );
+                            bar.set_position((1000.0 * p.clock / p.target) as u64);
                             bar.set_message(format!(
-                                "{:.0}/{:.0} coll/particle, {:.2e} events/s",
-                                p.collisions_per_particle, p.target, p.events_per_second
+                                "{:.0}/{:.0} {unit}, {:.2e} events/s",
+                                p.clock, p.target, p.events_per_second
                             ));
-                            let delta = (p.collisions_per_particle - last_cpp).max(0.0);
-                            overall.inc((delta * n / 2.0) as u64);
-                            last_cpp = p.collisions_per_particle;
+                            let delta = (p.clock - last).max(0.0);
+                            overall.inc((delta * work_per_clock) as u64);
+                            last = p.clock;
                         };
                         let outcome =
                             std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {

@@ -2,78 +2,103 @@
 //! command-line overrides (`--set key=value[,value...]`) and validation. Every error names the
 //! file, line and column, the key and what is allowed ([`SpecError`]).
 
-use super::job::{PARAMS, RunSettings, param_def, param_names};
-use crate::analysis::AnalysisSettings;
+use super::job::RunSettings;
+use crate::engine::declare::ParamKind;
+use crate::engine::{Clock, EngineDef, ParamValue, Values, registry};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Engines a sweep may name.
-pub const ENGINES: &[&str] = &["edmd"];
-
-/// Values of parameters (each optional): the `fixed` section and each extra point.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ParamValues {
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub length_over_width: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub width_over_diameter: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub height_over_diameter: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub volume_fraction: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub particles: Option<u64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub restitution: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub roughness: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wall_restitution: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wall_roughness: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub inertia_factor: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub gravity: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tc: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub initial_temperature: Option<f64>,
-}
+/// Values of parameters by name: the `fixed` section and each extra point, written as a RON
+/// struct `(restitution: 0.7, wall_model: "thermal")`. Which keys exist depends on the engine,
+/// so they are checked against its declaration by [`validate`], not by serde.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParamValues(pub Values);
 
 /// Grid axes: a list of values per swept parameter (cartesian product).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ParamAxes {
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub length_over_width: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub width_over_diameter: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub height_over_diameter: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub volume_fraction: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub particles: Option<Vec<u64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub restitution: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub roughness: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wall_restitution: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wall_roughness: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub inertia_factor: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub gravity: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tc: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub initial_temperature: Option<Vec<f64>>,
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParamAxes(pub BTreeMap<String, Vec<ParamValue>>);
+
+/// A RON struct (or map) of parameter names to values, read field by field.
+struct NamedVisitor<T>(std::marker::PhantomData<T>);
+
+impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for NamedVisitor<T> {
+    type Value = BTreeMap<String, T>;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("parameters as (name: value, ...)")
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut m: A) -> Result<Self::Value, A::Error> {
+        let mut out = BTreeMap::new();
+        while let Some(key) = m.next_key::<String>()? {
+            if out.contains_key(&key) {
+                return Err(serde::de::Error::custom(format!(
+                    "key `{key}` is given twice"
+                )));
+            }
+            let value = m.next_value::<T>()?;
+            out.insert(key, value);
+        }
+        Ok(out)
+    }
+    fn visit_unit<E: serde::de::Error>(self) -> Result<Self::Value, E> {
+        Ok(BTreeMap::new())
+    }
+}
+
+/// The registry's own `&'static` spelling of a parameter name (RON writes struct fields from
+/// static names).
+fn static_name(key: &str) -> Option<&'static str> {
+    registry::ENGINES
+        .iter()
+        .find_map(|e| e.param(key))
+        .map(|d| d.name)
+}
+
+fn serialize_named<S: serde::Serializer, T: Serialize>(
+    map: &BTreeMap<String, T>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    use serde::ser::{SerializeMap, SerializeStruct};
+    if map.keys().all(|k| static_name(k).is_some()) {
+        let mut st = s.serialize_struct("Parameters", map.len())?;
+        for (k, v) in map {
+            st.serialize_field(static_name(k).expect("checked"), v)?;
+        }
+        st.end()
+    } else {
+        let mut m = s.serialize_map(Some(map.len()))?;
+        for (k, v) in map {
+            m.serialize_entry(k, v)?;
+        }
+        m.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for ParamValues {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(NamedVisitor(std::marker::PhantomData))
+            .map(ParamValues)
+    }
+}
+
+impl Serialize for ParamValues {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        serialize_named(&self.0, s)
+    }
+}
+
+impl<'de> Deserialize<'de> for ParamAxes {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(NamedVisitor(std::marker::PhantomData))
+            .map(ParamAxes)
+    }
+}
+
+impl Serialize for ParamAxes {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        serialize_named(&self.0, s)
+    }
 }
 
 /// A linked axis: `param` = `factor` x the value of `follows` (e.g. H/d follows W/d).
@@ -93,6 +118,10 @@ fn one() -> f64 {
     1.0
 }
 
+fn is_empty_settings(v: &serde_json::Value) -> bool {
+    v.is_null() || v.as_object().is_some_and(|m| m.is_empty())
+}
+
 fn default_seeds() -> Vec<u64> {
     vec![1]
 }
@@ -107,7 +136,7 @@ pub struct SweepSpec {
     /// free text
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub description: Option<String>,
-    /// the engine ("edmd")
+    /// the engine (a name of the registry, e.g. "edmd")
     pub engine: String,
     /// fixed parameter values (unset ones take their defaults)
     #[serde(default)]
@@ -126,9 +155,9 @@ pub struct SweepSpec {
     pub seeds: Vec<u64>,
     /// run length and snapshot cadence
     pub run: RunSettings,
-    /// analysis settings
-    #[serde(default)]
-    pub analysis: AnalysisSettings,
+    /// analysis settings of the engine's analysis (keys it does not set take their defaults)
+    #[serde(default, skip_serializing_if = "is_empty_settings")]
+    pub analysis: serde_json::Value,
     /// the `--set` overrides already applied (written into the resolved sweep; informational)
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub overrides: Vec<String>,
@@ -240,25 +269,45 @@ fn find_key(text: &str, from: usize, key: &str) -> Option<usize> {
     None
 }
 
-/// Parse a sweep file's text (syntax, unknown keys, wrong types), with positions.
+/// Parse a sweep file's text (syntax, unknown sections, wrong types), with positions. The
+/// parameter keys are checked later, against the engine's declaration ([`validate`]).
 pub fn parse(path: &Path, text: &str) -> Result<SweepSpec, SpecError> {
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     options.from_str::<SweepSpec>(text).map_err(|e| {
-        let key = key_before(text, e.span.start.line, e.span.start.col);
-        let allowed = key
-            .as_deref()
-            .and_then(param_def)
-            .map(|d| format!("; allowed: {}", d.allowed))
-            .unwrap_or_default();
+        let src = Source { path, text };
+        // the section of a struct, for errors that serde places at its end
+        let section = |outer: &Option<String>| match outer.as_deref() {
+            Some("RunSettings") => Some("run"),
+            Some("Link") => Some("linked"),
+            _ => None,
+        };
+        let (key, (line, col)) = match &e.code {
+            ron::Error::NoSuchStructField { found, outer, .. } => (
+                Some(found.clone()),
+                src.locate(section(outer), found, 0)
+                    .unwrap_or((e.span.start.line, e.span.start.col)),
+            ),
+            ron::Error::MissingStructField { field, outer } => (
+                Some(field.to_string()),
+                match section(outer) {
+                    Some(s) => src.locate(None, s, 0).unwrap_or((1, 1)),
+                    None => (1, 1),
+                },
+            ),
+            _ => (
+                key_before(text, e.span.start.line, e.span.start.col),
+                (e.span.start.line, e.span.start.col),
+            ),
+        };
         SpecError {
             origin: Origin::File {
                 path: path.to_path_buf(),
-                line: e.span.start.line,
-                col: e.span.start.col,
+                line,
+                col,
             },
             key,
-            message: format!("{}{}{allowed}", e.code, hint(&e.code)),
+            message: format!("{}{}", e.code, hint(&e.code)),
         }
     })
 }
@@ -291,72 +340,35 @@ fn key_before(text: &str, line: usize, col: usize) -> Option<String> {
 
 fn hint(code: &ron::Error) -> String {
     match code {
-        ron::Error::NoSuchStructField { .. } => {
-            format!("; sweepable parameters are: {}", param_names())
-        }
+        ron::Error::NoSuchStructField {
+            found, expected, ..
+        } => did_you_mean(found, expected.iter().copied())
+            .map(|s| format!("; did you mean `{s}`?"))
+            .unwrap_or_default(),
         _ => String::new(),
     }
 }
 
-impl ParamValues {
-    /// The set values by parameter name (in table order).
-    pub fn to_map(&self) -> BTreeMap<String, f64> {
-        to_map(self)
-    }
+/// The closest of `candidates` to a misspelt `key`, when it is close enough to be a typo.
+pub fn did_you_mean<'a>(key: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    candidates
+        .into_iter()
+        .map(|c| (strsim::damerau_levenshtein(key, c), c))
+        .filter(|(d, c)| *d <= 2.max(c.len() / 4))
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c)
 }
 
-impl ParamAxes {
-    /// The axes by parameter name.
-    pub fn to_map(&self) -> BTreeMap<String, Vec<f64>> {
-        to_map(self)
-    }
-}
-
-fn to_map<T: Serialize, V: serde::de::DeserializeOwned>(value: &T) -> BTreeMap<String, V> {
-    let json = serde_json::to_value(value).unwrap_or(serde_json::Value::Null);
-    let mut out = BTreeMap::new();
-    if let serde_json::Value::Object(map) = json {
-        for (k, v) in map {
-            if !v.is_null()
-                && let Ok(v) = serde_json::from_value(v)
-            {
-                out.insert(k, v);
-            }
-        }
-    }
-    out
-}
-
-fn from_map<T: serde::de::DeserializeOwned, V: Serialize>(map: &BTreeMap<String, V>) -> T {
-    let mut obj = serde_json::Map::new();
-    for (k, v) in map {
-        let json = serde_json::to_value(v).unwrap_or(serde_json::Value::Null);
-        // integer parameters are stored as whole f64 values; give serde an integer
-        let json = match json {
-            serde_json::Value::Number(n) if param_def(k).is_some_and(|d| d.integer) => {
-                n.as_f64().map_or(serde_json::Value::Null, |f| {
-                    serde_json::Value::from(f as u64)
-                })
-            }
-            serde_json::Value::Array(items) if param_def(k).is_some_and(|d| d.integer) => {
-                serde_json::Value::Array(
-                    items
-                        .into_iter()
-                        .map(|n| serde_json::Value::from(n.as_f64().unwrap_or(0.0) as u64))
-                        .collect(),
-                )
-            }
-            other => other,
-        };
-        obj.insert(k.clone(), json);
-    }
-    serde_json::from_value(serde_json::Value::Object(obj)).expect("maps of known parameters")
+/// The engine a spec names (None: unknown, reported by [`validate`]).
+pub fn engine_of(spec: &SweepSpec) -> Option<&'static EngineDef> {
+    registry::find(&spec.engine)
 }
 
 /// Apply `--set key=value[,value...]` overrides: one value replaces a fixed value (and removes
-/// the axis or link that set it); several values make (or replace) an axis. `seeds=1,2,3`,
-/// `collisions_per_particle=X` and `snapshot_interval=X` set the run. Extra points keep their
-/// own explicit values.
+/// the axis or link that set it, and its alternatives, e.g. phi for N); several values make
+/// (or replace) an axis. `seeds=1,2,3`, a run length (`collisions_per_particle=X`, `steps=X`,
+/// `time=X`) and `snapshot_interval=X` set the run. Extra points keep their own explicit
+/// values.
 pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(), SpecError> {
     for arg in overrides {
         let bad = |key: Option<&str>, message: String| SpecError {
@@ -370,70 +382,67 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
         let key = key.trim();
         let values: Vec<&str> = value.split(',').map(str::trim).collect();
         let parse_f64 = |s: &str| -> Result<f64, SpecError> {
-            s.parse::<f64>()
-                .map_err(|_| bad(Some(key), format!("`{s}` is not a number")))
+            match s.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                Ok(v) => Err(bad(Some(key), format!("{v} is not a finite number"))),
+                Err(_) => Err(bad(Some(key), format!("`{s}` is not a number"))),
+            }
         };
-        match key {
-            "seed" | "seeds" => {
-                let mut seeds = Vec::new();
-                for s in &values {
-                    seeds.push(s.parse::<u64>().map_err(|_| {
-                        bad(
-                            Some(key),
-                            format!("`{s}` is not a seed: allowed whole numbers >= 0"),
-                        )
-                    })?);
-                }
-                spec.seeds = seeds;
-            }
-            "collisions_per_particle" | "snapshot_interval" => {
-                if values.len() != 1 {
-                    return Err(bad(Some(key), "takes exactly one value".into()));
-                }
-                let v = parse_f64(values[0])?;
-                if key == "collisions_per_particle" {
-                    spec.run.collisions_per_particle = v;
-                } else {
-                    spec.run.snapshot_interval = v;
-                }
-            }
-            _ => {
-                let Some(def) = param_def(key) else {
-                    return Err(bad(
+        let engine = engine_of(spec)
+            .ok_or_else(|| bad(None, format!("engine \"{}\" does not exist; allowed: {}", spec.engine, registry::names())))?;
+        if key == "seed" || key == "seeds" {
+            let mut seeds = Vec::new();
+            for s in &values {
+                seeds.push(s.parse::<u64>().map_err(|_| {
+                    bad(
                         Some(key),
-                        format!(
-                            "unknown key; allowed: {}, seeds, collisions_per_particle, snapshot_interval",
-                            param_names()
-                        ),
-                    ));
-                };
-                let parsed = values
-                    .iter()
-                    .map(|s| parse_f64(s))
-                    .collect::<Result<Vec<_>, _>>()?;
-                for &v in &parsed {
-                    if !(def.check)(v) {
-                        return Err(bad(
-                            Some(key),
-                            format!(
-                                "{} ({}) = {v} is out of range: allowed {}",
-                                def.name, def.symbol, def.allowed
-                            ),
-                        ));
-                    }
-                }
-                let mut fixed = spec.fixed.to_map();
-                let mut axes = spec.axes.to_map();
-                if parsed.len() == 1 {
-                    fixed.insert(def.name.into(), parsed[0]);
-                    axes.remove(def.name);
-                } else {
-                    axes.insert(def.name.into(), parsed);
-                    fixed.remove(def.name);
-                }
-                spec.linked.retain(|l| l.param != def.name);
-                spec.fixed = from_map(&fixed);
-                spec.axes = from_map(&axes);
+                        format!("`{s}` is not a seed: allowed whole numbers >= 0"),
+                    )
+                })?);
+            }
+            spec.seeds = seeds;
+        } else if key == "snapshot_interval" || Clock::from_key(key).is_some() {
+            if values.len() != 1 {
+                return Err(bad(Some(key), "takes exactly one value".into()));
+            }
+            let v = parse_f64(values[0])?;
+            match Clock::from_key(key) {
+                Some(clock) => spec.run.set_length(clock, v),
+                None => spec.run.snapshot_interval = v,
+            }
+        } else {
+            let Some(def) = engine.param(key) else {
+                let suggestion = did_you_mean(key, engine.params.iter().map(|d| d.name))
+                    .map(|s| format!("did you mean `{s}`? "))
+                    .unwrap_or_default();
+                return Err(bad(
+                    Some(key),
+                    format!(
+                        "{}{suggestion}allowed: {}, seeds, {}, snapshot_interval",
+                        unknown_key_message(key, engine),
+                        engine.param_names(),
+                        engine.clock_names()
+                    ),
+                ));
+            };
+            let parsed = values
+                .iter()
+                .map(|s| def.parse_text(s).map_err(|m| bad(Some(key), m)))
+                .collect::<Result<Vec<_>, _>>()?;
+            for v in &parsed {
+                def.check_value(v).map_err(|m| bad(Some(key), m))?;
+            }
+            let mut replaced = engine.alternatives_of(def.name);
+            replaced.push(def.name);
+            for name in &replaced {
+                spec.fixed.0.remove(*name);
+                spec.axes.0.remove(*name);
+            }
+            spec.linked.retain(|l| !replaced.contains(&l.param.as_str()));
+            if parsed.len() == 1 {
+                spec.fixed.0.insert(def.name.into(), parsed[0].clone());
+            } else {
+                spec.axes.0.insert(def.name.into(), parsed);
             }
         }
         spec.overrides.push(arg.clone());
@@ -441,10 +450,29 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
     Ok(())
 }
 
-/// Check the parts of a spec that do not need the expansion: engine, run settings, each value
-/// against its allowed range, axes non-empty without duplicates, links, seeds.
+/// "unknown key `x`" or, for a key of another engine, which engine has it.
+fn unknown_key_message(key: &str, engine: &EngineDef) -> String {
+    let others = registry::engines_with_param(key, engine.name);
+    if others.is_empty() {
+        format!("unknown key `{key}` for the {} engine; ", engine.name)
+    } else {
+        format!(
+            "`{key}` is a parameter of the {} engine, not of the {} engine; ",
+            others
+                .iter()
+                .map(|e| format!("\"{e}\""))
+                .collect::<Vec<_>>()
+                .join(", "),
+            engine.name
+        )
+    }
+}
+
+/// Check the parts of a spec that do not need the expansion: engine, run settings, analysis
+/// settings, each key and value against the engine's declaration, axes non-empty without
+/// duplicates, links, seeds.
 pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> {
-    if !ENGINES.contains(&spec.engine.as_str()) {
+    let Some(engine) = engine_of(spec) else {
         return Err(src.error_at(
             None,
             "engine",
@@ -452,14 +480,10 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             format!(
                 "engine \"{}\" does not exist; allowed: {}",
                 spec.engine,
-                ENGINES
-                    .iter()
-                    .map(|e| format!("\"{e}\""))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                registry::names()
             ),
         ));
-    }
+    };
     if let Some(name) = &spec.name
         && (name.is_empty() || name.contains(['/', '\\']) || name.starts_with('.'))
     {
@@ -470,79 +494,46 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             format!("name \"{name}\" is not a directory name: allowed letters, digits, - _ + = ,"),
         ));
     }
-    let run = &spec.run;
-    if !(run.collisions_per_particle.is_finite() && run.collisions_per_particle > 0.0) {
-        return Err(src.error_at(
-            Some("run"),
-            "collisions_per_particle",
-            0,
-            format!(
-                "{} is out of range: allowed a finite value > 0",
-                run.collisions_per_particle
-            ),
-        ));
+    spec.run
+        .validate(engine)
+        .map_err(|(key, message)| src.error_at(Some("run"), key, 0, message))?;
+    if let Err(message) = engine.analysis.analyser(&spec.analysis) {
+        return Err(src.error_at(None, "analysis", 0, message));
     }
-    if !(run.snapshot_interval.is_finite()
-        && run.snapshot_interval > 0.0
-        && run.snapshot_interval <= run.collisions_per_particle
-        && run.collisions_per_particle / run.snapshot_interval <= 1e6)
-    {
-        return Err(src.error_at(
-            Some("run"),
-            "snapshot_interval",
-            0,
-            format!(
-                "{} is out of range: allowed 0 < snapshot_interval <= collisions_per_particle ({}), at most 1e6 snapshots",
-                run.snapshot_interval, run.collisions_per_particle
-            ),
-        ));
-    }
-    if run.checkpoint_every == 0 {
-        return Err(src.error_at(
-            Some("run"),
-            "checkpoint_every",
-            0,
-            "0 is out of range: allowed a whole number >= 1 (snapshots between checkpoints)".into(),
-        ));
-    }
-    if spec.analysis.profile_bins == 0 {
-        return Err(src.error_at(
-            Some("analysis"),
-            "profile_bins",
-            0,
-            "0 is out of range: allowed a whole number >= 1".into(),
-        ));
-    }
-    let check = |section: &str, name: &str, v: f64, skip: usize| -> Result<(), SpecError> {
-        let def = param_def(name).expect("known parameter");
-        if (def.check)(v) {
-            Ok(())
-        } else {
-            Err(src.error_at(
+    let check = |section: &str, name: &str, v: &ParamValue, skip: usize| -> Result<(), SpecError> {
+        let Some(def) = engine.param(name) else {
+            let suggestion = did_you_mean(name, engine.params.iter().map(|d| d.name))
+                .map(|s| format!("did you mean `{s}`? "))
+                .unwrap_or_default();
+            return Err(src.error_at(
                 Some(section),
                 name,
                 skip,
                 format!(
-                    "{} ({}) = {v} is out of range: allowed {}",
-                    name, def.symbol, def.allowed
+                    "{}{suggestion}the {} engine's parameters are: {}",
+                    unknown_key_message(name, engine),
+                    engine.name,
+                    engine.param_names()
                 ),
-            ))
-        }
+            ));
+        };
+        def.check_value(v)
+            .map_err(|m| src.error_at(Some(section), name, skip, m))
     };
-    for (name, v) in spec.fixed.to_map() {
-        check("fixed", &name, v, 0)?;
+    for (name, v) in &spec.fixed.0 {
+        check("fixed", name, v, 0)?;
     }
     for (i, point) in spec.points.iter().enumerate() {
-        for (name, v) in point.to_map() {
+        for (name, v) in &point.0 {
             let skip = spec.points[..i]
                 .iter()
-                .filter(|p| p.to_map().contains_key(&name))
+                .filter(|p| p.0.contains_key(name))
                 .count();
-            check("points", &name, v, skip)?;
+            check("points", name, v, skip)?;
         }
     }
-    let axes = spec.axes.to_map();
-    for (name, values) in &axes {
+    let axes = &spec.axes.0;
+    for (name, values) in axes {
         if values.is_empty() {
             return Err(src.error_at(
                 Some("axes"),
@@ -551,9 +542,9 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                 "the axis is empty: give at least one value (or move it to `fixed`)".into(),
             ));
         }
-        for (i, &v) in values.iter().enumerate() {
+        for (i, v) in values.iter().enumerate() {
             check("axes", name, v, 0)?;
-            if values[..i].contains(&v) {
+            if values[..i].contains(v) {
                 return Err(src.error_at(
                     Some("axes"),
                     name,
@@ -562,7 +553,7 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                 ));
             }
         }
-        if spec.fixed.to_map().contains_key(name) {
+        if spec.fixed.0.contains_key(name) {
             return Err(src.error_at(
                 Some("axes"),
                 name,
@@ -572,7 +563,7 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
         }
     }
     for (i, link) in spec.linked.iter().enumerate() {
-        let Some(def) = param_def(&link.param) else {
+        let Some(def) = engine.param(&link.param) else {
             return Err(src.error_at(
                 Some("linked"),
                 "param",
@@ -580,12 +571,13 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                 format!(
                     "unknown parameter \"{}\"; allowed: {}",
                     link.param,
-                    param_names()
+                    engine.param_names()
                 ),
             ));
         };
-        let fixed = spec.fixed.to_map();
-        if !axes.contains_key(&link.follows) && !fixed.contains_key(&link.follows) {
+        let numeric = |d: &crate::engine::ParamDef| !matches!(d.kind, ParamKind::Choice(_));
+        let follows_def = engine.param(&link.follows);
+        if !axes.contains_key(&link.follows) && !spec.fixed.0.contains_key(&link.follows) {
             return Err(src.error_at(
                 Some("linked"),
                 "follows",
@@ -594,14 +586,25 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                     "\"{}\" is neither swept nor fixed; allowed: {}",
                     link.follows,
                     axes.keys()
-                        .chain(fixed.keys())
+                        .chain(spec.fixed.0.keys())
                         .cloned()
                         .collect::<Vec<_>>()
                         .join(", ")
                 ),
             ));
         }
-        if axes.contains_key(def.name) || spec.fixed.to_map().contains_key(def.name) {
+        if !numeric(def) || !follows_def.is_some_and(numeric) {
+            return Err(src.error_at(
+                Some("linked"),
+                "param",
+                i,
+                format!(
+                    "\"{}\" follows \"{}\": links are between numeric parameters",
+                    link.param, link.follows
+                ),
+            ));
+        }
+        if axes.contains_key(def.name) || spec.fixed.0.contains_key(def.name) {
             return Err(src.error_at(
                 Some("linked"),
                 "param",
@@ -637,6 +640,5 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             ));
         }
     }
-    let _ = PARAMS;
     Ok(())
 }

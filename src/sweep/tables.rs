@@ -1,14 +1,15 @@
-//! The Parquet tables of a results directory (written with polars): `jobs.parquet`,
-//! `spectra.parquet`, `profiles.parquet`, `energy.parquet`. Columns are documented in
-//! `results/README.md`. Written atomically (temp file + fsync + rename).
+//! The Parquet tables of a results directory (written with polars): `jobs.parquet` (one row per
+//! job: parameters, state, the analysis summary, counters) and the row tables the engine's
+//! analysis declares (`spectra`, `profiles`, `energy` for the structure analysis). Columns are
+//! documented in `results/README.md`. Written atomically (temp file + fsync + rename).
 
-use super::execute::{self, JobResult};
-use super::job::PARAMS;
-use super::queue::{self, JobState};
+use super::store::{self, JobResult, JobState};
 use super::{Sweep, SweepDirs};
+use crate::analysis::columns::{Cell, ColumnKind};
+use crate::engine::declare::ParamKind;
+use crate::engine::{Clock, EngineDef};
 use polars::prelude::*;
 use serde_json::Value;
-use std::collections::BTreeMap;
 use std::path::Path;
 
 /// What [`gather`] wrote.
@@ -34,9 +35,9 @@ pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
         .iter()
         .map(|job| {
             let dir = dirs.job_dir(&job.id);
-            let mut state = queue::job_state(&dir);
+            let mut state = store::job_state(&dir);
             let result = if state == JobState::Done {
-                match execute::read_result(&dir) {
+                match store::read_result(&dir) {
                     Ok(r) => Some(r),
                     Err(e) => {
                         state = JobState::Failed(format!("unreadable result: {e:#}"));
@@ -51,17 +52,19 @@ pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
         .collect()
 }
 
-/// Write the four tables of a sweep into its tables directory.
+/// Write the tables of a sweep into its tables directory: `jobs.parquet` and the row tables
+/// of its engine's analysis.
 pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> {
     let jobs = collect(sweep, dirs);
+    let engine = super::spec::engine_of(&sweep.spec).expect("a loaded sweep names an engine");
     std::fs::create_dir_all(&dirs.tables)?;
-    write_parquet(&dirs.tables.join("jobs.parquet"), jobs_frame(&jobs)?)?;
-    write_parquet(&dirs.tables.join("spectra.parquet"), spectra_frame(&jobs)?)?;
-    write_parquet(
-        &dirs.tables.join("profiles.parquet"),
-        profiles_frame(&jobs)?,
-    )?;
-    write_parquet(&dirs.tables.join("energy.parquet"), energy_frame(&jobs)?)?;
+    write_parquet(&dirs.tables.join("jobs.parquet"), jobs_frame(engine, &jobs)?)?;
+    for table in engine.analysis.tables() {
+        write_parquet(
+            &dirs.tables.join(format!("{}.parquet", table.name)),
+            rows_frame(table, &jobs)?,
+        )?;
+    }
     Ok(GatherSummary {
         jobs: jobs.len(),
         done: jobs.iter().filter(|j| j.result.is_some()).count(),
@@ -91,9 +94,10 @@ fn write_parquet(path: &Path, mut df: DataFrame) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A column being built from JSON-like values; its type is fixed by the first non-null value.
+/// A column being built, by type.
 enum Col {
     F64(Vec<Option<f64>>),
+    U32(Vec<Option<u32>>),
     I64(Vec<Option<i64>>),
     U64(Vec<Option<u64>>),
     Bool(Vec<Option<bool>>),
@@ -101,10 +105,49 @@ enum Col {
 }
 
 impl Col {
+    fn new(kind: ColumnKind) -> Self {
+        match kind {
+            ColumnKind::F64 => Col::F64(Vec::new()),
+            ColumnKind::U32 => Col::U32(Vec::new()),
+            ColumnKind::U64 => Col::U64(Vec::new()),
+            ColumnKind::I64 => Col::I64(Vec::new()),
+            ColumnKind::Bool => Col::Bool(Vec::new()),
+            ColumnKind::Str => Col::Str(Vec::new()),
+        }
+    }
+
+    /// Append a cell (a cell of another type, or NaN, is null).
+    fn push(&mut self, cell: Cell) {
+        match (self, cell) {
+            (Col::F64(v), Cell::F64(x)) => v.push((!x.is_nan()).then_some(x)),
+            (Col::F64(v), Cell::U32(x)) => v.push(Some(x as f64)),
+            (Col::F64(v), Cell::U64(x)) => v.push(Some(x as f64)),
+            (Col::U32(v), Cell::U32(x)) => v.push(Some(x)),
+            (Col::U64(v), Cell::U64(x)) => v.push(Some(x)),
+            (Col::U64(v), Cell::U32(x)) => v.push(Some(x as u64)),
+            (Col::I64(v), Cell::I64(x)) => v.push(Some(x)),
+            (Col::Bool(v), Cell::Bool(x)) => v.push(Some(x)),
+            (Col::Str(v), Cell::Str(x)) => v.push(Some(x)),
+            (col, _) => col.push_null(),
+        }
+    }
+
+    fn push_null(&mut self) {
+        match self {
+            Col::F64(v) => v.push(None),
+            Col::U32(v) => v.push(None),
+            Col::U64(v) => v.push(None),
+            Col::I64(v) => v.push(None),
+            Col::Bool(v) => v.push(None),
+            Col::Str(v) => v.push(None),
+        }
+    }
+
     fn into_column(self, name: &str) -> Column {
         let name: PlSmallStr = name.into();
         match self {
             Col::F64(v) => Column::new(name, v),
+            Col::U32(v) => Column::new(name, v),
             Col::I64(v) => Column::new(name, v),
             Col::U64(v) => Column::new(name, v),
             Col::Bool(v) => Column::new(name, v),
@@ -113,80 +156,21 @@ impl Col {
     }
 }
 
-/// Summary fields become columns by name (whatever fields the analysis reports); a field
-/// that is NaN or missing is null.
-fn summary_columns(jobs: &[GatheredJob]) -> Vec<(String, Col)> {
-    let rows: Vec<Option<serde_json::Map<String, Value>>> = jobs
-        .iter()
-        .map(|j| {
-            j.result
-                .as_ref()
-                .and_then(|r| match serde_json::to_value(&r.analysis.summary) {
-                    Ok(Value::Object(m)) => Some(m),
-                    _ => None,
-                })
-        })
-        .collect();
-    let mut names: Vec<String> = Vec::new();
-    let mut kinds: BTreeMap<String, &'static str> = BTreeMap::new();
-    for row in rows.iter().flatten() {
-        for (k, v) in row {
-            if !names.contains(k) {
-                names.push(k.clone());
-            }
-            let kind = match v {
-                Value::Bool(_) => "bool",
-                Value::String(_) => "str",
-                Value::Number(n) if n.is_u64() => "u64",
-                Value::Number(n) if n.is_i64() => "i64",
-                Value::Number(_) => "f64",
-                _ => continue,
-            };
-            let entry = kinds.entry(k.clone()).or_insert(kind);
-            if *entry != kind && (*entry == "u64" || *entry == "i64") && kind == "f64" {
-                *entry = "f64";
-            }
-        }
+/// A JSON summary value as a cell of a column of `kind`.
+fn json_cell(v: Option<&Value>, kind: ColumnKind) -> Cell {
+    match (v, kind) {
+        (Some(Value::Bool(b)), ColumnKind::Bool) => Cell::Bool(*b),
+        (Some(Value::String(s)), ColumnKind::Str) => Cell::Str(s.clone()),
+        (Some(Value::Number(n)), ColumnKind::U64) => n.as_u64().map_or(Cell::Null, Cell::U64),
+        (Some(Value::Number(n)), ColumnKind::I64) => n.as_i64().map_or(Cell::Null, Cell::I64),
+        (Some(Value::Number(n)), ColumnKind::F64) => n.as_f64().map_or(Cell::Null, Cell::F64),
+        _ => Cell::Null,
     }
-    names
-        .into_iter()
-        .map(|name| {
-            let get = |row: &Option<serde_json::Map<String, Value>>| {
-                row.as_ref().and_then(|m| m.get(&name)).cloned()
-            };
-            let col = match kinds.get(&name).copied().unwrap_or("f64") {
-                "bool" => Col::Bool(
-                    rows.iter()
-                        .map(|r| get(r).and_then(|v| v.as_bool()))
-                        .collect(),
-                ),
-                "str" => Col::Str(
-                    rows.iter()
-                        .map(|r| get(r).and_then(|v| v.as_str().map(str::to_string)))
-                        .collect(),
-                ),
-                "u64" => Col::U64(
-                    rows.iter()
-                        .map(|r| get(r).and_then(|v| v.as_u64()))
-                        .collect(),
-                ),
-                "i64" => Col::I64(
-                    rows.iter()
-                        .map(|r| get(r).and_then(|v| v.as_i64()))
-                        .collect(),
-                ),
-                _ => Col::F64(
-                    rows.iter()
-                        .map(|r| get(r).and_then(|v| v.as_f64()))
-                        .collect(),
-                ),
-            };
-            (name, col)
-        })
-        .collect()
 }
 
-fn jobs_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
+/// The `jobs.parquet` frame: plan, parameters, state, the analysis summary (null where a job
+/// is not done), counters and their ratios, final clocks, cost.
+fn jobs_frame(engine: &EngineDef, jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
     let n = jobs.len();
     let mut cols = vec![
         Column::new(
@@ -204,22 +188,28 @@ fn jobs_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
                 .collect::<Vec<_>>(),
         ),
     ];
-    for def in PARAMS {
-        if def.integer {
-            cols.push(Column::new(
+    for def in engine.params {
+        let value = |j: &GatheredJob| j.job.params.values.get(def.name).cloned();
+        cols.push(match def.kind {
+            ParamKind::Integer => Column::new(
                 def.name.into(),
                 jobs.iter()
-                    .map(|j| j.job.params.get(def.name) as u64)
+                    .map(|j| value(j).and_then(|v| v.as_f64()).map(|v| v as u64))
                     .collect::<Vec<_>>(),
-            ));
-        } else {
-            cols.push(Column::new(
+            ),
+            ParamKind::Real => Column::new(
                 def.name.into(),
                 jobs.iter()
-                    .map(|j| j.job.params.get(def.name))
+                    .map(|j| value(j).and_then(|v| v.as_f64()))
                     .collect::<Vec<_>>(),
-            ));
-        }
+            ),
+            ParamKind::Choice(_) => Column::new(
+                def.name.into(),
+                jobs.iter()
+                    .map(|j| value(j).and_then(|v| v.as_text().map(str::to_string)))
+                    .collect::<Vec<_>>(),
+            ),
+        });
     }
     cols.push(Column::new(
         "seed".into(),
@@ -228,7 +218,7 @@ fn jobs_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
     cols.push(Column::new(
         "run_length".into(),
         jobs.iter()
-            .map(|j| j.job.params.run.collisions_per_particle)
+            .map(|j| j.job.params.run.length())
             .collect::<Vec<_>>(),
     ));
     cols.push(Column::new(
@@ -252,10 +242,22 @@ fn jobs_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
     ));
     // a summary field that repeats a job column (e.g. `particles`) is left out: the job
     // column is the authority, and a table cannot hold two columns of one name
-    for (name, col) in summary_columns(jobs) {
-        if !cols.iter().any(|c| c.name().as_str() == name) {
-            cols.push(col.into_column(&name));
+    let summaries: Vec<Option<serde_json::Map<String, Value>>> = jobs
+        .iter()
+        .map(|j| j.result.as_ref().map(|r| r.analysis.summary()))
+        .collect();
+    for (name, kind) in engine.analysis.summary_columns() {
+        if cols.iter().any(|c| c.name().as_str() == name) {
+            continue;
         }
+        let mut col = Col::new(kind);
+        for s in &summaries {
+            match s {
+                Some(s) => col.push(json_cell(s.get(&name), kind)),
+                None => col.push_null(),
+            }
+        }
+        cols.push(col.into_column(&name));
     }
     let r = |f: &dyn Fn(&JobResult) -> u64| -> Vec<Option<u64>> {
         jobs.iter().map(|j| j.result.as_ref().map(f)).collect()
@@ -263,32 +265,31 @@ fn jobs_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
     let rf = |f: &dyn Fn(&JobResult) -> f64| -> Vec<Option<f64>> {
         jobs.iter().map(|j| j.result.as_ref().map(f)).collect()
     };
-    cols.push(Column::new(
-        "pair_collisions".into(),
-        r(&|x| x.counters.pair_collisions),
-    ));
-    cols.push(Column::new(
-        "wall_collisions".into(),
-        r(&|x| x.counters.wall_collisions),
-    ));
-    cols.push(Column::new(
-        "cell_crossings".into(),
-        r(&|x| x.counters.cell_crossings),
-    ));
-    cols.push(Column::new(
-        "tc_elastic_collisions".into(),
-        r(&|x| x.counters.tc_elastic_collisions),
-    ));
-    cols.push(Column::new("events".into(), r(&|x| x.counters.events)));
-    cols.push(Column::new(
-        "tc_elastic_fraction".into(),
-        rf(&|x| x.counters.tc_elastic_collisions as f64 / x.counters.pair_collisions.max(1) as f64),
-    ));
-    cols.push(Column::new(
-        "collisions_per_particle".into(),
-        rf(&|x| x.collisions_per_particle),
-    ));
-    cols.push(Column::new("time".into(), rf(&|x| x.time)));
+    for counter in engine.counters {
+        cols.push(Column::new(
+            counter.name.into(),
+            r(&|x| x.counters.get(counter.name)),
+        ));
+    }
+    for ratio in engine.ratios {
+        cols.push(Column::new(
+            ratio.name.into(),
+            rf(&|x| {
+                x.counters.get(ratio.numerator) as f64
+                    / x.counters.get(ratio.denominator).max(1) as f64
+            }),
+        ));
+    }
+    for clock in engine.clocks {
+        cols.push(match clock {
+            Clock::CollisionsPerParticle => Column::new(
+                clock.key().into(),
+                rf(&|x| x.collisions_per_particle),
+            ),
+            Clock::Steps => Column::new(clock.key().into(), r(&|x| x.steps)),
+            Clock::Time => Column::new(clock.key().into(), rf(&|x| x.time)),
+        });
+    }
     cols.push(Column::new("snapshots".into(), r(&|x| x.snapshots as u64)));
     cols.push(Column::new("wall_seconds".into(), rf(&|x| x.wall_seconds)));
     cols.push(Column::new(
@@ -298,75 +299,27 @@ fn jobs_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
     Ok(DataFrame::new(n, cols)?)
 }
 
-fn spectra_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
-    let (mut id, mut plane, mut k1, mut k2, mut power) = (vec![], vec![], vec![], vec![], vec![]);
+/// One of the analysis's row tables: `job_id` and the declared columns, rows of every done job.
+fn rows_frame(
+    table: &crate::analysis::columns::TableDef,
+    jobs: &[GatheredJob],
+) -> anyhow::Result<DataFrame> {
+    let mut id = Vec::new();
+    let mut cols: Vec<Col> = table.columns.iter().map(|c| Col::new(c.kind)).collect();
     for j in jobs {
-        for row in j.result.iter().flat_map(|r| &r.analysis.spectra) {
+        for row in j.result.iter().flat_map(|r| r.analysis.rows(table.name)) {
             id.push(j.job.id.0.clone());
-            plane.push(row.plane.clone());
-            k1.push(row.k1);
-            k2.push(row.k2);
-            power.push(row.power);
+            for (col, cell) in cols.iter_mut().zip(row) {
+                col.push(cell);
+            }
         }
     }
     let n = id.len();
-    Ok(DataFrame::new(
-        n,
-        vec![
-            Column::new("job_id".into(), id),
-            Column::new("plane".into(), plane),
-            Column::new("k1".into(), k1),
-            Column::new("k2".into(), k2),
-            Column::new("power".into(), power),
-        ],
-    )?)
-}
-
-fn profiles_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
-    let (mut id, mut quantity, mut bin, mut y, mut value) =
-        (vec![], vec![], vec![], vec![], vec![]);
-    for j in jobs {
-        for row in j.result.iter().flat_map(|r| &r.analysis.profiles) {
-            id.push(j.job.id.0.clone());
-            quantity.push(row.quantity.clone());
-            bin.push(row.bin);
-            y.push(row.y);
-            value.push(row.value);
-        }
-    }
-    let n = id.len();
-    Ok(DataFrame::new(
-        n,
-        vec![
-            Column::new("job_id".into(), id),
-            Column::new("quantity".into(), quantity),
-            Column::new("bin".into(), bin),
-            Column::new("y".into(), y),
-            Column::new("value".into(), value),
-        ],
-    )?)
-}
-
-fn energy_frame(jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
-    let (mut id, mut cpp, mut time, mut tr, mut rot) = (vec![], vec![], vec![], vec![], vec![]);
-    for j in jobs {
-        for row in j.result.iter().flat_map(|r| &r.analysis.energy) {
-            id.push(j.job.id.0.clone());
-            cpp.push(row.collisions_per_particle);
-            time.push(row.time);
-            tr.push(row.translational);
-            rot.push(row.rotational);
-        }
-    }
-    let n = id.len();
-    Ok(DataFrame::new(
-        n,
-        vec![
-            Column::new("job_id".into(), id),
-            Column::new("collisions_per_particle".into(), cpp),
-            Column::new("time".into(), time),
-            Column::new("translational_energy".into(), tr),
-            Column::new("rotational_energy".into(), rot),
-        ],
-    )?)
+    let mut columns = vec![Column::new("job_id".into(), id)];
+    columns.extend(
+        cols.into_iter()
+            .zip(table.columns)
+            .map(|(c, def)| c.into_column(def.name)),
+    );
+    Ok(DataFrame::new(n, columns)?)
 }

@@ -1,19 +1,44 @@
-//! The engine's checkpoint file format: versioned, length-prefixed and checksummed.
-//!
-//! Layout (little endian): magic `GRANFLOW-EDMD\0\0\0` (16 bytes), format version (u32),
-//! payload length (u64), CRC-32 of the payload (u32), payload (postcard-encoded
-//! [`EngineState`]). A truncated, corrupt, foreign or future-version file is rejected with a
-//! message saying which check failed; it is never silently used.
+//! The engine's checkpoint format: the EDMD state (postcard) sealed in the common
+//! [`crate::engine::envelope`] (magic `GRANFLOW-EDMD`, format version, length, CRC-32). A
+//! truncated, corrupt, foreign or future-version file is rejected with a message saying which
+//! check failed; it is never silently used.
 
 use super::EdmdParams;
-use crate::engine::{Counters, EngineError};
+use crate::engine::{EngineError, envelope};
 use serde::{Deserialize, Serialize};
 
-const MAGIC: &[u8; 16] = b"GRANFLOW-EDMD\0\0\0";
+/// The name the envelope carries.
+pub const ENGINE: &str = "edmd";
 /// Version of the payload layout; bump it when `EngineState` changes.
 pub const FORMAT_VERSION: u32 = 1;
-const HEADER_LEN: usize = 16 + 4 + 8 + 4;
 
+/// Event counters of a run (cumulative since the start of the run, kept across checkpoints).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct EdmdCounters {
+    /// particle-particle collisions (including TC-elastic ones)
+    pub pair_collisions: u64,
+    /// particle-wall collisions
+    pub wall_collisions: u64,
+    /// cell crossings (bookkeeping events)
+    pub cell_crossings: u64,
+    /// pair collisions made elastic by the TC model
+    pub tc_elastic_collisions: u64,
+    /// all events taken from the queue, including invalidated ones
+    pub events: u64,
+}
+
+impl EdmdCounters {
+    /// As named counters (the names of the declaration's counter list).
+    pub fn named(&self) -> crate::engine::Counters {
+        crate::engine::Counters::from_pairs([
+            ("pair_collisions", self.pair_collisions),
+            ("wall_collisions", self.wall_collisions),
+            ("cell_crossings", self.cell_crossings),
+            ("tc_elastic_collisions", self.tc_elastic_collisions),
+            ("events", self.events),
+        ])
+    }
+}
 /// Everything needed to continue a run, at one synchronised time.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EngineState {
@@ -25,7 +50,7 @@ pub struct EngineState {
     pub angular_velocities: Vec<[f64; 3]>,
     /// time of each particle's last collision (TC model)
     pub last_collision: Vec<f64>,
-    pub counters: Counters,
+    pub counters: EdmdCounters,
     pub wall_momentum: [[f64; 3]; 2],
     pub dissipated: f64,
     pub gravity_work: f64,
@@ -34,44 +59,28 @@ pub struct EngineState {
 /// Serialise a state into checkpoint bytes.
 pub fn encode(state: &EngineState) -> Vec<u8> {
     let payload = postcard::to_stdvec(state).expect("engine state serialises");
-    let mut out = Vec::with_capacity(HEADER_LEN + payload.len());
-    out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-    out.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
-    out.extend_from_slice(&payload);
-    out
+    envelope::seal(ENGINE, FORMAT_VERSION, &payload)
 }
 
 /// Check and decode checkpoint bytes.
 pub fn decode(bytes: &[u8]) -> Result<EngineState, EngineError> {
+    let sealed = envelope::open(bytes)?;
+    if sealed.engine != ENGINE {
+        return Err(EngineError::Checkpoint(format!(
+            "not an EDMD checkpoint (written by the {} engine)",
+            sealed.engine
+        )));
+    }
+    decode_payload(sealed.version, sealed.payload)
+}
+
+/// Decode a payload taken out of its envelope.
+pub fn decode_payload(version: u32, payload: &[u8]) -> Result<EngineState, EngineError> {
     let fail = |why: String| Err(EngineError::Checkpoint(why));
-    if bytes.len() < HEADER_LEN {
-        return fail(format!(
-            "file is {} bytes, shorter than the {HEADER_LEN}-byte header (truncated)",
-            bytes.len()
-        ));
-    }
-    if &bytes[..16] != MAGIC {
-        return fail("not an EDMD checkpoint (wrong magic bytes)".into());
-    }
-    let version = u32::from_le_bytes(bytes[16..20].try_into().unwrap());
     if version != FORMAT_VERSION {
         return fail(format!(
             "format version {version}, this granflow reads version {FORMAT_VERSION}"
         ));
-    }
-    let len = u64::from_le_bytes(bytes[20..28].try_into().unwrap()) as usize;
-    let crc = u32::from_le_bytes(bytes[28..32].try_into().unwrap());
-    let payload = &bytes[HEADER_LEN..];
-    if payload.len() != len {
-        return fail(format!(
-            "payload is {} bytes, header says {len} (truncated or padded)",
-            payload.len()
-        ));
-    }
-    if crc32fast::hash(payload) != crc {
-        return fail("checksum mismatch (corrupt file)".into());
     }
     let state: EngineState = postcard::from_bytes(payload)
         .map_err(|e| EngineError::Checkpoint(format!("payload does not decode: {e}")))?;

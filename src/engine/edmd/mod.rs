@@ -15,6 +15,7 @@
 pub mod cells;
 pub mod checkpoint;
 pub mod collision;
+mod declaration;
 mod engine;
 mod images;
 pub mod motion;
@@ -26,5 +27,7 @@ pub mod reference;
 mod search;
 pub mod setup;
 
+pub use checkpoint::EdmdCounters;
+pub use declaration::{DECLARATION, geometry, lattice_capacity, params_of};
 pub use engine::{EdmdEngine, NeighbourSearch, PhysicalEvent};
 pub use params::{EdmdParams, Placement, particles_for_volume_fraction};

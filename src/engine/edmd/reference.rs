@@ -46,13 +46,16 @@ impl ReferenceEngine {
     /// Continue from a snapshot of any engine (the TC model's memory of past collisions is
     /// not in a snapshot: use with tc = 0).
     pub fn from_snapshot(params: EdmdParams, snapshot: &crate::engine::Snapshot) -> Self {
-        let n = snapshot.len();
+        let p = snapshot
+            .particles()
+            .expect("an EDMD snapshot carries particles");
+        let n = p.len();
         ReferenceEngine {
             params,
-            now: snapshot.time,
-            positions: snapshot.positions.clone(),
-            velocities: snapshot.velocities.clone(),
-            angular: snapshot.angular_velocities.clone(),
+            now: snapshot.time(),
+            positions: p.positions.clone(),
+            velocities: p.velocities.clone(),
+            angular: p.angular_velocities.clone(),
             last_collision: vec![f64::NEG_INFINITY; n],
             events: Vec::new(),
         }

@@ -27,7 +27,22 @@ impl EdmdEngine {
     }
 }
 
+impl EdmdEngine {
+    /// The particles of a snapshot taken now (tests and benchmarks of this engine, which know
+    /// that its snapshots carry particles).
+    pub fn particles_now(&mut self) -> Particles {
+        match self.snapshot().content {
+            Content::Particles(p) => p,
+            Content::Lattice(_) => unreachable!("EDMD snapshots carry particles"),
+        }
+    }
+}
+
 impl Engine for EdmdEngine {
+    fn def(&self) -> &'static EngineDef {
+        &super::super::DECLARATION
+    }
+
     fn particle_count(&self) -> usize {
         self.kin.len()
     }
@@ -36,6 +51,7 @@ impl Engine for EdmdEngine {
         Progress {
             time: self.now,
             collisions_per_particle: self.collisions_per_particle(),
+            steps: 0,
             events: self.counters.events,
         }
     }
@@ -45,6 +61,7 @@ impl Engine for EdmdEngine {
         let mut window_end = self.counters.events + window;
         let mut window_start_time = self.now;
         match stop {
+            StopAt::Steps(_) => return Err(self.def().clock_error(stop.clock())),
             StopAt::CollisionsPerParticle(target) => {
                 let target_pairs = (target * self.kin.len() as f64 / 2.0).ceil() as u64;
                 while self.counters.pair_collisions < target_pairs {
@@ -95,20 +112,21 @@ impl Engine for EdmdEngine {
             .sum();
         let kinematics = self.by_id(&self.kin);
         Snapshot {
-            time: self.now,
-            collisions_per_particle: self.collisions_per_particle(),
-            geometry: self.params.geometry,
-            inertia_factor: self.params.inertia_factor,
-            gravity: self.params.gravity,
-            positions: kinematics.iter().map(|k| k.position).collect(),
-            velocities: kinematics.iter().map(|k| k.velocity).collect(),
-            angular_velocities: self.by_id(&self.angular),
-            counters: self.counters,
-            translational_energy,
-            rotational_energy,
-            wall_momentum: self.wall_momentum,
-            energy_dissipated: self.dissipated,
-            gravity_work: self.gravity_work,
+            progress: self.progress(),
+            counters: self.counters.named(),
+            content: Content::Particles(Particles {
+                geometry: self.params.geometry,
+                inertia_factor: self.params.inertia_factor,
+                gravity: self.params.gravity,
+                positions: kinematics.iter().map(|k| k.position).collect(),
+                velocities: kinematics.iter().map(|k| k.velocity).collect(),
+                angular_velocities: self.by_id(&self.angular),
+                translational_energy,
+                rotational_energy,
+                wall_momentum: self.wall_momentum,
+                energy_dissipated: self.dissipated,
+                gravity_work: self.gravity_work,
+            }),
         }
     }
 

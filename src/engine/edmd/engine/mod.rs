@@ -5,7 +5,7 @@
 
 use super::EdmdParams;
 use super::cells::{AxisCells, CellGrid, Neighbourhood};
-use super::checkpoint::{self, EngineState};
+use super::checkpoint::{self, EdmdCounters, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
 use super::motion::{fly, linear_exit_time_within, pair_contact_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
@@ -13,7 +13,9 @@ use super::prefetch::prefetch;
 use super::queue::{CalendarQueue, EventQueue};
 use super::search::PartnerBatch;
 use super::setup;
-use crate::engine::{Counters, Engine, EngineError, Progress, Snapshot, StopAt};
+use crate::engine::{
+    Content, Engine, EngineDef, EngineError, Particles, Progress, Snapshot, StopAt,
+};
 use nalgebra::Vector3;
 
 mod boundary;
@@ -161,7 +163,7 @@ pub struct EdmdEngine {
     grid_epoch: f64,
     /// event count of the next periodic rebuild
     next_rebuild: u64,
-    counters: Counters,
+    counters: EdmdCounters,
     /// cumulative impulse delivered to the wall at y = 0 and at y = W
     wall_momentum: [[f64; 3]; 2],
     /// cumulative kinetic energy dissipated in collisions
@@ -195,7 +197,7 @@ impl EdmdEngine {
             velocities: start.velocities,
             angular_velocities: start.angular_velocities,
             last_collision: vec![f64::NEG_INFINITY; n],
-            counters: Counters::default(),
+            counters: EdmdCounters::default(),
             wall_momentum: [[0.0; 3]; 2],
             dissipated: 0.0,
             gravity_work: 0.0,
@@ -209,6 +211,19 @@ impl EdmdEngine {
         state.params.validate()?;
         let search = NeighbourSearch::automatic(&state.params);
         Ok(Self::from_state(state, search))
+    }
+
+    /// Rebuild an engine from a checkpoint payload already taken out of its envelope.
+    pub fn restore_payload(version: u32, payload: &[u8]) -> Result<Self, EngineError> {
+        let state = checkpoint::decode_payload(version, payload)?;
+        state.params.validate()?;
+        let search = NeighbourSearch::automatic(&state.params);
+        Ok(Self::from_state(state, search))
+    }
+
+    /// The event counters so far.
+    pub fn counters(&self) -> EdmdCounters {
+        self.counters
     }
 
     /// As [`EdmdEngine::restore`], with the given neighbour search (for tests).

@@ -1,5 +1,6 @@
-//! The job queue on disk: one directory per job, its state read from the files in it alone,
-//! and claims through an OS file lock that dies with its process.
+//! The job store: the one owner of a job directory's files. One directory per job, its state
+//! read from the files in it alone, claims through an OS file lock that dies with its process,
+//! and the formats of the checkpoint and the result.
 //!
 //! `jobs/<id>/` holds:
 //! - `params.json`: the resolved parameters and canonical form, written once;
@@ -12,6 +13,8 @@
 use super::grid::PlannedJob;
 use super::job::{JobId, JobParams};
 use super::write_atomic;
+use crate::analysis::{Analysis, Record, SnapshotRecord};
+use crate::engine::Counters;
 use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -98,7 +101,7 @@ fn state_unlocked(dir: &Path) -> JobState {
     if let Ok(err) = std::fs::read_to_string(dir.join(FAILED_FILE)) {
         return JobState::Failed(err.trim().to_string());
     }
-    match super::execute::checkpoint_progress(dir) {
+    match checkpoint_progress(dir) {
         Some(cpp) => JobState::Partial(cpp),
         None => JobState::Pending,
     }
@@ -177,4 +180,156 @@ pub fn log(dir: &Path, line: &str) -> std::io::Result<()> {
 pub fn mark_failed(dir: &Path, error: &str) -> std::io::Result<()> {
     write_atomic(&dir.join(FAILED_FILE), format!("{error}\n").as_bytes())?;
     log(dir, &format!("failed: {error}"))
+}
+
+/// Format of `checkpoint.bin` written now (1: records were structure records only).
+const CHECKPOINT_FORMAT: u32 = 2;
+
+/// What a job's checkpoint file holds (postcard, followed by a CRC-32 of the bytes).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct JobCheckpoint {
+    /// format version
+    pub format: u32,
+    /// snapshots taken so far after the initial one (k of the last snapshot)
+    pub snapshot: u32,
+    /// [`crate::engine::Engine::checkpoint`] bytes taken right after snapshot k
+    pub engine: Vec<u8>,
+    /// analysis records of snapshots 0..=k
+    pub records: Vec<Record>,
+    /// wall-clock seconds spent up to this checkpoint (informational)
+    pub wall_seconds: f64,
+}
+
+/// Format 1 (before engines were plug-ins): the records were the structure analysis's.
+#[derive(Deserialize)]
+struct JobCheckpointV1 {
+    format: u32,
+    snapshot: u32,
+    engine: Vec<u8>,
+    records: Vec<SnapshotRecord>,
+    wall_seconds: f64,
+}
+
+impl JobCheckpoint {
+    /// A checkpoint in the current format.
+    pub fn new(snapshot: u32, engine: Vec<u8>, records: Vec<Record>, wall_seconds: f64) -> Self {
+        JobCheckpoint {
+            format: CHECKPOINT_FORMAT,
+            snapshot,
+            engine,
+            records,
+            wall_seconds,
+        }
+    }
+}
+
+/// A finished job's result (`result.ron`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JobResult {
+    /// the job id
+    pub id: String,
+    /// the engine that ran it (results written before the registry are EDMD's)
+    #[serde(default = "edmd")]
+    pub engine: String,
+    /// N
+    pub particles: usize,
+    /// snapshots taken after the initial one
+    pub snapshots: u32,
+    /// final collisions per particle (0 for engines without collisions)
+    pub collisions_per_particle: f64,
+    /// final simulated time
+    pub time: f64,
+    /// final time steps (0 for event-driven engines)
+    #[serde(default)]
+    pub steps: u64,
+    /// final counters, named as the engine declares them
+    pub counters: Counters,
+    /// wall-clock seconds of simulation (summed over resumes, up to their last checkpoint)
+    pub wall_seconds: f64,
+    /// events per wall-clock second
+    pub events_per_second: f64,
+    /// the analysis
+    pub analysis: Analysis,
+}
+
+impl JobResult {
+    /// The final reading of a clock.
+    pub fn clock(&self, clock: crate::engine::Clock) -> f64 {
+        match clock {
+            crate::engine::Clock::CollisionsPerParticle => self.collisions_per_particle,
+            crate::engine::Clock::Steps => self.steps as f64,
+            crate::engine::Clock::Time => self.time,
+        }
+    }
+}
+
+fn edmd() -> String {
+    "edmd".into()
+}
+
+/// Clock reading (collisions per particle or steps) of a job's last checkpoint, if it has one.
+pub fn checkpoint_progress(dir: &Path) -> Option<f64> {
+    read_checkpoint(dir)
+        .ok()
+        .flatten()
+        .and_then(|c| c.records.last().map(Record::clock))
+}
+
+/// Read a job's checkpoint (None when there is none).
+pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
+    let path = dir.join(CHECKPOINT_FILE);
+    let bytes = match std::fs::read(&path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(e.into()),
+    };
+    anyhow::ensure!(bytes.len() >= 4, "{}: truncated checkpoint", path.display());
+    let (body, crc) = bytes.split_at(bytes.len() - 4);
+    anyhow::ensure!(
+        crc32fast::hash(body).to_le_bytes() == crc,
+        "{}: checkpoint checksum mismatch",
+        path.display()
+    );
+    let (format, _) = postcard::take_from_bytes::<u32>(body)?;
+    let cp = match format {
+        1 => {
+            let v1: JobCheckpointV1 = postcard::from_bytes(body)?;
+            JobCheckpoint {
+                format: v1.format,
+                snapshot: v1.snapshot,
+                engine: v1.engine,
+                records: v1.records.into_iter().map(Record::Structure).collect(),
+                wall_seconds: v1.wall_seconds,
+            }
+        }
+        CHECKPOINT_FORMAT => postcard::from_bytes(body)?,
+        other => anyhow::bail!(
+            "{}: checkpoint format {other} (this granflow reads 1 and {CHECKPOINT_FORMAT})",
+            path.display()
+        ),
+    };
+    Ok(Some(cp))
+}
+
+/// Write a job's checkpoint atomically.
+pub fn write_checkpoint(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<()> {
+    let mut bytes = postcard::to_stdvec(cp)?;
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    write_atomic(&dir.join(CHECKPOINT_FILE), &bytes)?;
+    Ok(())
+}
+
+/// Read a finished job's result.
+pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
+    let path = dir.join(RESULT_FILE);
+    let text = std::fs::read_to_string(&path)?;
+    ron::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+}
+
+/// Write a job's result atomically (this marks it done).
+pub fn write_result(dir: &Path, result: &JobResult) -> anyhow::Result<()> {
+    let text = ron::ser::to_string_pretty(result, ron::ser::PrettyConfig::default())?;
+    write_atomic(&dir.join(RESULT_FILE), text.as_bytes())?;
+    Ok(())
 }

@@ -1,0 +1,289 @@
+//! The analyses a job can run, one per kind of snapshot content, behind one interface: settings
+//! parsed from a sweep's `analysis` section (with defaults), a compact record per snapshot (what
+//! checkpoints keep), and the analysis of a job's records (label, summary row, tables). An
+//! engine's declaration names its kind; a new kind of analysis is added here.
+
+use super::columns::{Cell, ColumnDef, ColumnKind, TableDef};
+use super::{AnalysisSettings, JobAnalysis, SnapshotRecord};
+use crate::engine::Snapshot;
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+
+/// Which analysis an engine's snapshots feed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AnalysisKind {
+    /// density-wave structure of a particle channel (thesis ch. 3 and 5): fields, spectra,
+    /// families against shot noise, labels, profiles, steady state
+    Structure,
+}
+
+/// A kind's settings, ready to record and analyse.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Analyser {
+    Structure(AnalysisSettings),
+}
+
+/// What one snapshot contributes, by kind.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Record {
+    Structure(SnapshotRecord),
+}
+
+/// A job's analysis, by kind (untagged in `result.ron`: results written before there were
+/// kinds read as [`Analysis::Structure`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Analysis {
+    Structure(JobAnalysis),
+}
+
+impl AnalysisKind {
+    /// Parse and check the settings of a sweep's `analysis` section (missing keys take their
+    /// defaults; an empty or null section is all defaults).
+    pub fn analyser(self, given: &Value) -> Result<Analyser, String> {
+        let given = match given {
+            Value::Null => Value::Object(Map::new()),
+            other => other.clone(),
+        };
+        match self {
+            AnalysisKind::Structure => {
+                let s: AnalysisSettings = serde_json::from_value(given).map_err(|e| {
+                    format!("{e}; allowed keys: grid, profile_bins, cell_particles, min_steady_snapshots")
+                })?;
+                s.validate()?;
+                Ok(Analyser::Structure(s))
+            }
+        }
+    }
+
+    /// The default settings as JSON (the id holds only settings that differ from these).
+    pub fn default_settings(self) -> Value {
+        match self {
+            AnalysisKind::Structure => {
+                serde_json::to_value(AnalysisSettings::default()).expect("settings serialise")
+            }
+        }
+    }
+
+    /// The summary columns of `jobs.parquet`, in order, with their types: the fields of the
+    /// kind's summary (fixed, whatever jobs are done).
+    pub fn summary_columns(self) -> Vec<(String, ColumnKind)> {
+        let empty = match self {
+            AnalysisKind::Structure => {
+                serde_json::to_value(super::report::empty_summary()).expect("summary serialises")
+            }
+        };
+        let Value::Object(map) = empty else {
+            return Vec::new();
+        };
+        map.into_iter()
+            .map(|(name, v)| {
+                let kind = match v {
+                    Value::Bool(_) => ColumnKind::Bool,
+                    Value::String(_) => ColumnKind::Str,
+                    Value::Number(n) if n.is_u64() => ColumnKind::U64,
+                    Value::Number(n) if n.is_i64() => ColumnKind::I64,
+                    _ => ColumnKind::F64,
+                };
+                (name, kind)
+            })
+            .collect()
+    }
+
+    /// The per-job row tables of this kind (each written with a `job_id` column first).
+    pub fn tables(self) -> &'static [TableDef] {
+        match self {
+            AnalysisKind::Structure => STRUCTURE_TABLES,
+        }
+    }
+}
+
+const STRUCTURE_TABLES: &[TableDef] = &[
+    TableDef {
+        name: "spectra",
+        columns: &[
+            ColumnDef {
+                name: "plane",
+                kind: ColumnKind::Str,
+                doc: "xy, xz or yz",
+            },
+            ColumnDef {
+                name: "k1",
+                kind: ColumnKind::U32,
+                doc: "wave number along the plane's first axis",
+            },
+            ColumnDef {
+                name: "k2",
+                kind: ColumnKind::U32,
+                doc: "wave number along the plane's second axis",
+            },
+            ColumnDef {
+                name: "power",
+                kind: ColumnKind::F64,
+                doc: "folded power, window average",
+            },
+        ],
+    },
+    TableDef {
+        name: "profiles",
+        columns: &[
+            ColumnDef {
+                name: "quantity",
+                kind: ColumnKind::Str,
+                doc: "phi, u_x, omega_z, T or theta",
+            },
+            ColumnDef {
+                name: "bin",
+                kind: ColumnKind::U32,
+                doc: "bin across the channel",
+            },
+            ColumnDef {
+                name: "y",
+                kind: ColumnKind::F64,
+                doc: "bin centre, in d",
+            },
+            ColumnDef {
+                name: "value",
+                kind: ColumnKind::F64,
+                doc: "window average",
+            },
+        ],
+    },
+    TableDef {
+        name: "energy",
+        columns: &[
+            ColumnDef {
+                name: "collisions_per_particle",
+                kind: ColumnKind::F64,
+                doc: "clock of the snapshot",
+            },
+            ColumnDef {
+                name: "time",
+                kind: ColumnKind::F64,
+                doc: "simulated time of the snapshot",
+            },
+            ColumnDef {
+                name: "translational_energy",
+                kind: ColumnKind::F64,
+                doc: "per particle",
+            },
+            ColumnDef {
+                name: "rotational_energy",
+                kind: ColumnKind::F64,
+                doc: "per particle",
+            },
+        ],
+    },
+];
+
+impl Analyser {
+    /// The settings as JSON (all keys, resolved).
+    pub fn settings(&self) -> Value {
+        match self {
+            Analyser::Structure(s) => serde_json::to_value(s).expect("settings serialise"),
+        }
+    }
+
+    /// The record of one snapshot.
+    pub fn record(&self, snapshot: &Snapshot) -> Result<Record, String> {
+        match self {
+            Analyser::Structure(s) => {
+                if snapshot.particles().is_none() {
+                    return Err("the structure analysis needs particles, and this engine's snapshots carry none".into());
+                }
+                Ok(Record::Structure(super::record_snapshot(snapshot, s)))
+            }
+        }
+    }
+
+    /// Analyse a job's records (in order of simulated time).
+    pub fn analyse(&self, records: &[Record]) -> Analysis {
+        match self {
+            Analyser::Structure(s) => {
+                let records: Vec<SnapshotRecord> = records
+                    .iter()
+                    .map(|r| match r {
+                        Record::Structure(r) => r.clone(),
+                    })
+                    .collect();
+                Analysis::Structure(super::analyse_job(&records, s))
+            }
+        }
+    }
+}
+
+impl Record {
+    /// The reading of the run's main clock at the snapshot (collisions per particle or steps).
+    pub fn clock(&self) -> f64 {
+        match self {
+            Record::Structure(r) => r.collisions_per_particle,
+        }
+    }
+
+    /// Simulated time at the snapshot.
+    pub fn time(&self) -> f64 {
+        match self {
+            Record::Structure(r) => r.time,
+        }
+    }
+}
+
+impl Analysis {
+    /// The structure label and the S-wave humps (0 where there are none).
+    pub fn label(&self) -> (&str, u32) {
+        match self {
+            Analysis::Structure(a) => (&a.summary.label, a.summary.humps),
+        }
+    }
+
+    /// The kind this analysis is of.
+    pub fn kind(&self) -> AnalysisKind {
+        match self {
+            Analysis::Structure(_) => AnalysisKind::Structure,
+        }
+    }
+
+    /// The summary row: field name -> value (columns of `jobs.parquet`).
+    pub fn summary(&self) -> Map<String, Value> {
+        let v = match self {
+            Analysis::Structure(a) => serde_json::to_value(&a.summary),
+        };
+        match v {
+            Ok(Value::Object(m)) => m,
+            _ => Map::new(),
+        }
+    }
+
+    /// The rows of one of the kind's tables (cells in the declared column order).
+    pub fn rows(&self, table: &str) -> Vec<Vec<Cell>> {
+        match self {
+            Analysis::Structure(a) => match table {
+                "spectra" => a
+                    .spectra
+                    .iter()
+                    .map(|r| vec![r.plane.as_str().into(), r.k1.into(), r.k2.into(), r.power.into()])
+                    .collect(),
+                "profiles" => a
+                    .profiles
+                    .iter()
+                    .map(|r| {
+                        vec![r.quantity.as_str().into(), r.bin.into(), r.y.into(), r.value.into()]
+                    })
+                    .collect(),
+                "energy" => a
+                    .energy
+                    .iter()
+                    .map(|r| {
+                        vec![
+                            r.collisions_per_particle.into(),
+                            r.time.into(),
+                            r.translational.into(),
+                            r.rotational.into(),
+                        ]
+                    })
+                    .collect(),
+                _ => Vec::new(),
+            },
+        }
+    }
+}

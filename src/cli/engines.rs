@@ -1,0 +1,57 @@
+//! `granflow engines`: the registry's engines with their parameters, clocks and counters;
+//! `--markdown` prints README's parameter tables (generated, so README cannot drift from the
+//! declarations: a test compares them).
+
+use crate::engine::registry;
+use clap::Args;
+
+#[derive(Debug, Args)]
+pub struct EnginesArgs {
+    /// print the parameter tables as markdown (the ones README shows)
+    #[arg(long)]
+    pub markdown: bool,
+}
+
+/// README's section of parameter tables: one heading line and table per engine.
+pub fn markdown() -> String {
+    let mut out = String::new();
+    for e in registry::ENGINES {
+        out.push_str(&format!(
+            "`engine: \"{}\"`: {}. Run length: {}.\n\n",
+            e.name,
+            e.title,
+            e.clocks
+                .iter()
+                .map(|c| format!("`{}`", c.key()))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        ));
+        out.push_str(&e.markdown_table());
+        out.push('\n');
+    }
+    out
+}
+
+pub fn run(args: EnginesArgs) -> anyhow::Result<()> {
+    if args.markdown {
+        print!("{}", markdown());
+        return Ok(());
+    }
+    for e in registry::ENGINES {
+        println!("{}: {}", e.name, e.title);
+        println!("  run length: {}", e.clock_names());
+        for d in e.params {
+            println!("  {:<24} {:<8} {}  ({})", d.name, d.symbol, d.doc, d.allowed);
+        }
+        println!(
+            "  counters: {}",
+            e.counters
+                .iter()
+                .map(|c| c.name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        println!("  analysis: {:?}", e.analysis);
+    }
+    Ok(())
+}

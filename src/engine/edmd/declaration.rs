@@ -1,0 +1,353 @@
+//! The EDMD engine's declaration for the registry: its sweep parameters (the thesis channel),
+//! N from phi, the placeability check, clocks, estimates and counters.
+
+use super::{EdmdEngine, EdmdParams, particles_for_volume_fraction};
+use crate::analysis::AnalysisKind;
+use crate::engine::declare::{
+    CounterDef, InId, ParamDefault, ParamKind, Problem, RatioDef, ranges,
+};
+use crate::engine::{
+    BoxGeometry, Clock, Engine, EngineDef, EngineError, ParamDef, ParamValue, Values,
+};
+
+/// The declaration of the `edmd` engine.
+pub static DECLARATION: EngineDef = EngineDef {
+    name: "edmd",
+    title: "event-driven rough inelastic hard spheres between flat rough walls (Malik 2008, ch. 2)",
+    params: PARAMS,
+    alternatives: &[&["volume_fraction", "particles"]],
+    clocks: &[Clock::CollisionsPerParticle, Clock::Time],
+    resolve,
+    build,
+    restore,
+    size_name: "N",
+    size: |v| number(v, "particles"),
+    work,
+    work_unit: "collisions",
+    work_rate: 1.5e5,
+    memory,
+    counters: &[
+        CounterDef {
+            name: "pair_collisions",
+            doc: "particle-particle collisions (including TC-elastic ones)",
+        },
+        CounterDef {
+            name: "wall_collisions",
+            doc: "particle-wall collisions",
+        },
+        CounterDef {
+            name: "cell_crossings",
+            doc: "cell crossings (bookkeeping events)",
+        },
+        CounterDef {
+            name: "tc_elastic_collisions",
+            doc: "pair collisions made elastic in the normal direction by the TC model",
+        },
+        CounterDef {
+            name: "events",
+            doc: "all events taken from the queue, including invalidated ones",
+        },
+    ],
+    ratios: &[RatioDef {
+        name: "tc_elastic_fraction",
+        numerator: "tc_elastic_collisions",
+        denominator: "pair_collisions",
+        doc: "fraction of pair collisions made elastic by the TC model",
+    }],
+    analysis: AnalysisKind::Structure,
+    example: &[
+        ("length_over_width", "3"),
+        ("width_over_diameter", "15"),
+        ("height_over_diameter", "15"),
+        ("volume_fraction", "0.15"),
+    ],
+    example_run: (Clock::CollisionsPerParticle, 1000.0, 100.0),
+};
+
+fn side(v: f64) -> bool {
+    v >= 3.0
+}
+fn fraction(v: f64) -> bool {
+    v > 0.0 && v < std::f64::consts::PI / 6.0
+}
+fn inertia(v: f64) -> bool {
+    v > 0.0 && v <= 1.0
+}
+fn count(v: f64) -> bool {
+    (1.0..=1e9).contains(&v)
+}
+
+const fn real(
+    name: &'static str,
+    symbol: &'static str,
+    unit: &'static str,
+    default: ParamDefault,
+    allowed: &'static str,
+    check: fn(f64) -> bool,
+    doc: &'static str,
+) -> ParamDef {
+    ParamDef {
+        name,
+        symbol,
+        unit,
+        kind: ParamKind::Real,
+        default,
+        allowed,
+        check,
+        doc,
+        in_id: InId::Always,
+    }
+}
+
+/// The sweepable parameters, in expansion order (the last swept one varies fastest). All of
+/// them but `volume_fraction` (which follows from N and the box) are in the first id scheme.
+const PARAMS: &[ParamDef] = &[
+    real(
+        "length_over_width",
+        "L/W",
+        "1",
+        ParamDefault::Required,
+        "a finite value > 0 with L = (L/W)(W/d) >= 3",
+        ranges::positive,
+        "channel length (periodic, along gravity) over width",
+    ),
+    real(
+        "width_over_diameter",
+        "W/d",
+        "1",
+        ParamDefault::Required,
+        "a finite value >= 3 (channel width in particle diameters)",
+        side,
+        "channel width, wall to wall",
+    ),
+    real(
+        "height_over_diameter",
+        "H/d",
+        "1",
+        ParamDefault::Required,
+        "a finite value >= 3 (spanwise extent in particle diameters)",
+        side,
+        "spanwise extent (periodic)",
+    ),
+    ParamDef {
+        in_id: InId::Never,
+        ..real(
+            "volume_fraction",
+            "phi",
+            "1",
+            ParamDefault::Derived,
+            "0 < phi < pi/6 (and placeable in the box)",
+            fraction,
+            "solid volume fraction N (pi d^3/6) / (L W H); give it or `particles`",
+        )
+    },
+    ParamDef {
+        kind: ParamKind::Integer,
+        ..real(
+            "particles",
+            "N",
+            "1",
+            ParamDefault::Derived,
+            "a whole number >= 1 (default: from volume_fraction)",
+            count,
+            "number of spheres, round(phi L W H / (pi d^3/6)) unless given",
+        )
+    },
+    real(
+        "restitution",
+        "e",
+        "1",
+        ParamDefault::Number(0.7),
+        "[0, 1]",
+        ranges::unit,
+        "normal restitution of particle-particle collisions",
+    ),
+    real(
+        "roughness",
+        "beta",
+        "1",
+        ParamDefault::Number(0.1),
+        "[-1, 1]",
+        ranges::signed_unit,
+        "tangential restitution of particle-particle collisions (-1 smooth, 1 perfectly rough)",
+    ),
+    real(
+        "wall_restitution",
+        "e_w",
+        "1",
+        ParamDefault::Number(0.99),
+        "[0, 1]",
+        ranges::unit,
+        "normal restitution of particle-wall collisions",
+    ),
+    real(
+        "wall_roughness",
+        "beta_w",
+        "1",
+        ParamDefault::Number(0.99),
+        "[-1, 1]",
+        ranges::signed_unit,
+        "tangential restitution of particle-wall collisions",
+    ),
+    real(
+        "inertia_factor",
+        "K",
+        "1",
+        ParamDefault::Number(0.4),
+        "(0, 1] (2/5 solid sphere, 2/3 thin shell)",
+        inertia,
+        "reduced moment of inertia 4 I / (m d^2)",
+    ),
+    real(
+        "gravity",
+        "g",
+        "g",
+        ParamDefault::Number(1.0),
+        "a finite value >= 0",
+        ranges::non_negative,
+        "gravitational acceleration along the flow (units: d = m = g = 1)",
+    ),
+    real(
+        "tc",
+        "t_c",
+        "sqrt(d/g)",
+        ParamDefault::Number(EdmdParams::DEFAULT_TC),
+        "a finite time >= 0 (0 switches the TC model off)",
+        ranges::non_negative,
+        "TC model: a pair collision within t_c of a partner's last collision is elastic (normal part)",
+    ),
+    real(
+        "initial_temperature",
+        "T_0",
+        "m g d",
+        ParamDefault::Number(0.01),
+        "a finite value > 0",
+        ranges::positive,
+        "kT of the initial Gaussian translational and rotational velocities",
+    ),
+];
+
+fn number(values: &Values, name: &str) -> f64 {
+    values
+        .get(name)
+        .and_then(ParamValue::as_f64)
+        .unwrap_or(f64::NAN)
+}
+
+/// The channel box: L = (L/W) W, W, H, walls at y = 0, W.
+pub fn geometry(values: &Values) -> BoxGeometry {
+    let w = number(values, "width_over_diameter");
+    BoxGeometry {
+        length: number(values, "length_over_width") * w,
+        width: w,
+        height: number(values, "height_over_diameter"),
+        walls: true,
+    }
+}
+
+/// How many spheres fit on a lattice of spacing d in the channel (what the engine's lattice
+/// placement can do at best): floor(L) x (floor(W - 1) + 1) x floor(H).
+pub fn lattice_capacity(geometry: &BoxGeometry) -> f64 {
+    geometry.length.floor() * ((geometry.width - 1.0).floor() + 1.0) * geometry.height.floor()
+}
+
+/// N from phi when N is not given, phi from N; L >= 3; N placeable in the box.
+fn resolve(values: &mut Values) -> Result<(), Problem> {
+    let has = |v: &Values, k: &str| v.contains_key(k);
+    if !has(values, "particles") && !has(values, "volume_fraction") {
+        return Err(Problem::new(
+            "volume_fraction",
+            "neither `volume_fraction` nor `particles` is given: N follows from phi unless given",
+        ));
+    }
+    let requested_phi = has(values, "volume_fraction") && !has(values, "particles");
+    let g = geometry(values);
+    if g.length < 3.0 {
+        return Err(Problem::new(
+            "length_over_width",
+            format!(
+                "L = (L/W)(W/d) = {} is too short: allowed L >= 3 particle diameters",
+                g.length
+            ),
+        ));
+    }
+    if requested_phi {
+        let phi = number(values, "volume_fraction");
+        values.insert(
+            "particles".into(),
+            ParamValue::Number(particles_for_volume_fraction(&g, phi) as f64),
+        );
+    }
+    let n = number(values, "particles");
+    values.insert(
+        "volume_fraction".into(),
+        ParamValue::Number(n * std::f64::consts::PI / 6.0 / g.volume()),
+    );
+    let capacity = lattice_capacity(&g);
+    if n < 1.0 || n > capacity {
+        return Err(Problem::new(
+            if requested_phi {
+                "volume_fraction"
+            } else {
+                "particles"
+            },
+            format!(
+                "phi = {:.4} (N = {n}) cannot be placed in the {} x {} x {} channel: allowed 1 <= N <= {capacity} \
+                 (phi <= {:.4}, a lattice of spacing d)",
+                number(values, "volume_fraction"),
+                g.length,
+                g.width,
+                g.height,
+                capacity * std::f64::consts::PI / 6.0 / g.volume()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The engine parameters of resolved sweep values.
+pub fn params_of(values: &Values, seed: u64) -> EdmdParams {
+    let mut p = EdmdParams::channel(1.0, 1.0, 1.0, 0.0, seed);
+    p.geometry = geometry(values);
+    p.particles = number(values, "particles") as usize;
+    p.restitution = number(values, "restitution");
+    p.roughness = number(values, "roughness");
+    p.wall_restitution = number(values, "wall_restitution");
+    p.wall_roughness = number(values, "wall_roughness");
+    p.inertia_factor = number(values, "inertia_factor");
+    p.gravity = number(values, "gravity");
+    p.tc = number(values, "tc");
+    p.initial_temperature = number(values, "initial_temperature");
+    p
+}
+
+fn build(values: &Values, seed: u64) -> Result<Box<dyn Engine>, EngineError> {
+    Ok(Box::new(EdmdEngine::new(params_of(values, seed))?))
+}
+
+fn restore(version: u32, payload: &[u8]) -> Result<Box<dyn Engine>, EngineError> {
+    Ok(Box::new(EdmdEngine::restore_payload(version, payload)?))
+}
+
+/// Collisions per particle per unit of simulated time assumed by the work estimate of a run
+/// measured in time: the thesis channels measured at phi = 0.15 ran 10-25 (W/d = 15-30) and
+/// up to 80 in dense slugs. Only `plan`'s estimate and the pool's order depend on it.
+const ASSUMED_CPP_PER_TIME: f64 = 25.0;
+
+/// Estimated pair collisions of a run.
+fn work(values: &Values, clock: Clock, length: f64) -> f64 {
+    let n = number(values, "particles");
+    let cpp = match clock {
+        Clock::CollisionsPerParticle => length,
+        Clock::Time => length * ASSUMED_CPP_PER_TIME,
+        Clock::Steps => f64::NAN,
+    };
+    n * cpp / 2.0
+}
+
+/// Bytes a job needs: about 600 per sphere (records, calendar, lists, snapshot copies; the
+/// process grows by 370-560 bytes per sphere, measured) plus at most 16 per cell of side >= d.
+fn memory(values: &Values) -> f64 {
+    let g = geometry(values);
+    600.0 * number(values, "particles") + 16.0 * g.length.ceil() * g.width.ceil() * g.height.ceil()
+}

@@ -1,0 +1,31 @@
+//! The registry: the one list of the engines granflow has. Adding an engine means writing its
+//! declaration ([`super::EngineDef`], next to its code) and adding it here; sweep files, ids,
+//! tables, `sim`, `plan` and README's parameter tables follow from the declaration.
+
+use super::EngineDef;
+
+/// Every engine, in the order `granflow engines` lists them.
+pub static ENGINES: &[&EngineDef] = &[&super::edmd::DECLARATION];
+
+/// The engine of this name.
+pub fn find(name: &str) -> Option<&'static EngineDef> {
+    ENGINES.iter().copied().find(|e| e.name == name)
+}
+
+/// The engine names, quoted and comma separated (for error messages).
+pub fn names() -> String {
+    ENGINES
+        .iter()
+        .map(|e| format!("\"{}\"", e.name))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The engines (other than `except`) that have a parameter of this name.
+pub fn engines_with_param(name: &str, except: &str) -> Vec<&'static str> {
+    ENGINES
+        .iter()
+        .filter(|e| e.name != except && e.param(name).is_some())
+        .map(|e| e.name)
+        .collect()
+}
