@@ -742,7 +742,13 @@ fn slip_velocity_uses_the_outermost_filled_bins() {
     let settings = AnalysisSettings::default();
     let pos = sample(&g, 4000, &|_, _, _| 1.0, &mut rng);
     let mut snap = snapshot(g, pos.clone(), 10.0);
-    for (v, r) in snap.particles_mut().unwrap().velocities.iter_mut().zip(&pos) {
+    for (v, r) in snap
+        .particles_mut()
+        .unwrap()
+        .velocities
+        .iter_mut()
+        .zip(&pos)
+    {
         v[0] = r[1];
     }
     let a = analyse_job(&[record_snapshot(&snap, &settings)], &settings);
@@ -821,7 +827,8 @@ fn cellwise_fields_of_known_cells() {
         [3.0, 3.0, 0.0],
         [5.0, 5.0, 5.0],
     ];
-    snap.particles_mut().unwrap().angular_velocities = vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 0.0, 0.0], [1.0; 3]];
+    snap.particles_mut().unwrap().angular_velocities =
+        vec![[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 0.0, 0.0], [1.0; 3]];
     let grid = Grid::new(&g, 4, &settings);
     let f = granflow::analysis::fields::Fields::compute(snap.particles().unwrap(), &grid);
     let c0 = grid.linear([0, 0, 0]);
@@ -849,7 +856,8 @@ fn xyz_and_vtk_files_parse_back() {
     let pos = sample(&g, 200, &|_, _, _| 1.0, &mut rng);
     let mut snap = snapshot(g, pos, 5.0);
     for p in 0..snap.particles().unwrap().len() {
-        snap.particles_mut().unwrap().velocities[p] = [rng.random::<f64>(), -rng.random::<f64>(), 0.5];
+        snap.particles_mut().unwrap().velocities[p] =
+            [rng.random::<f64>(), -rng.random::<f64>(), 0.5];
         snap.particles_mut().unwrap().angular_velocities[p] = [0.1, rng.random::<f64>(), -2.0];
     }
     let dir = std::env::temp_dir().join(format!("granflow-analysis-test-{}", std::process::id()));
@@ -858,7 +866,10 @@ fn xyz_and_vtk_files_parse_back() {
     write_xyz(&xyz, &snap).unwrap();
     let text = std::fs::read_to_string(&xyz).unwrap();
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines[0].trim().parse::<usize>().unwrap(), snap.particles().unwrap().len());
+    assert_eq!(
+        lines[0].trim().parse::<usize>().unwrap(),
+        snap.particles().unwrap().len()
+    );
     assert!(
         lines[1].contains("Lattice=\"12 0 0 0 10 0 0 0 8\""),
         "{}",
@@ -897,9 +908,13 @@ fn xyz_and_vtk_files_parse_back() {
     let grid = Grid::new(&g, snap.particles().unwrap().len(), &settings);
     let cell = grid.volume() / 24.0;
     let spheres: f64 = phi.iter().map(|v| v * cell / (PI / 6.0)).sum();
-    assert!((spheres - snap.particles().unwrap().len() as f64).abs() < 1e-9, "{spheres}");
+    assert!(
+        (spheres - snap.particles().unwrap().len() as f64).abs() < 1e-9,
+        "{spheres}"
+    );
     // x varies fastest: the first entries are the cells (i, 0, 0)
-    let counts = granflow::analysis::fields::cell_counts(&snap.particles().unwrap().positions, &grid);
+    let counts =
+        granflow::analysis::fields::cell_counts(&snap.particles().unwrap().positions, &grid);
     for i in 0..3 {
         let expect = counts[grid.linear([i, 0, 0])] as f64 * (PI / 6.0) / cell;
         assert!((phi[i] - expect).abs() < 1e-12);

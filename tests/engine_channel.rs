@@ -64,7 +64,8 @@ fn channel_flow_balances_momentum_and_energy() {
             momentum_defect.abs() <= 1e-9 * momentum_scale,
             "momentum defect {momentum_defect} of {momentum_scale}"
         );
-        let energy_defect = p(&s).gravity_work - p(&s).energy_dissipated - (kinetic_energy(&s) - e0);
+        let energy_defect =
+            p(&s).gravity_work - p(&s).energy_dissipated - (kinetic_energy(&s) - e0);
         assert!(
             energy_defect.abs() <= 1e-9 * p(&s).gravity_work,
             "energy defect {energy_defect} of {}",
@@ -74,7 +75,8 @@ fn channel_flow_balances_momentum_and_energy() {
             let dt = s.time() - q.time();
             momentum_ratio.push((wall_impulse_x(&s) - wall_impulse_x(q)) / (n * g * dt));
             power_ratio.push(
-                (p(&s).energy_dissipated - p(q).energy_dissipated) / (p(&s).gravity_work - p(q).gravity_work),
+                (p(&s).energy_dissipated - p(q).energy_dissipated)
+                    / (p(&s).gravity_work - p(q).gravity_work),
             );
         }
         previous = Some(s);

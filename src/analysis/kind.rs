@@ -261,13 +261,25 @@ impl Analysis {
                 "spectra" => a
                     .spectra
                     .iter()
-                    .map(|r| vec![r.plane.as_str().into(), r.k1.into(), r.k2.into(), r.power.into()])
+                    .map(|r| {
+                        vec![
+                            r.plane.as_str().into(),
+                            r.k1.into(),
+                            r.k2.into(),
+                            r.power.into(),
+                        ]
+                    })
                     .collect(),
                 "profiles" => a
                     .profiles
                     .iter()
                     .map(|r| {
-                        vec![r.quantity.as_str().into(), r.bin.into(), r.y.into(), r.value.into()]
+                        vec![
+                            r.quantity.as_str().into(),
+                            r.bin.into(),
+                            r.y.into(),
+                            r.value.into(),
+                        ]
                     })
                     .collect(),
                 "energy" => a

@@ -94,7 +94,7 @@ pub fn write_vtk_density(
 
 /// The particles of a snapshot, or an error for engines whose snapshots carry none.
 fn particles_of(snapshot: &Snapshot) -> std::io::Result<&Particles> {
-    snapshot.particles().ok_or_else(|| {
-        std::io::Error::other("this engine's snapshots carry no particles to write")
-    })
+    snapshot
+        .particles()
+        .ok_or_else(|| std::io::Error::other("this engine's snapshots carry no particles to write"))
 }

@@ -41,7 +41,10 @@ pub fn run(args: EnginesArgs) -> anyhow::Result<()> {
         println!("{}: {}", e.name, e.title);
         println!("  run length: {}", e.clock_names());
         for d in e.params {
-            println!("  {:<24} {:<8} {}  ({})", d.name, d.symbol, d.doc, d.allowed);
+            println!(
+                "  {:<24} {:<8} {}  ({})",
+                d.name, d.symbol, d.doc, d.allowed
+            );
         }
         println!(
             "  counters: {}",

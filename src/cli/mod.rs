@@ -3,8 +3,8 @@
 mod bench;
 mod engines;
 mod gather;
-mod phase_diagram;
 mod params;
+mod phase_diagram;
 mod plan;
 mod run;
 mod sim;

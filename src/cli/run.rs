@@ -96,7 +96,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         let swept = phase::swept_in(&sweep, &jobs);
         if let Some(&x) = swept.first() {
             let y = swept.get(1).copied();
-            let diagram = phase::PhaseDiagram::build(sweep.engine(), &jobs, x, y).map_err(BadInput)?;
+            let diagram =
+                phase::PhaseDiagram::build(sweep.engine(), &jobs, x, y).map_err(BadInput)?;
             let (png, svg) = super::phase_diagram::write_plots(&diagram, &dirs.tables)?;
             println!(
                 "\nphase diagram ({}):\n{}",

@@ -87,8 +87,8 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
     if let Some(path) = &args.params {
         let text = std::fs::read_to_string(path)
             .map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
-        let values: ParamValues = ron::from_str(&text)
-            .map_err(|e| bad(format!("{}: {e}", path.display())))?;
+        let values: ParamValues =
+            ron::from_str(&text).map_err(|e| bad(format!("{}: {e}", path.display())))?;
         for (k, v) in values.0 {
             let text = match v {
                 ParamValue::Number(x) => format!("{x}"),
@@ -98,13 +98,21 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
         }
     }
     for (k, v) in &args.flags.0 {
-        given.push((k.to_string(), v.clone(), format!("--{}", k.replace('_', "-"))));
+        given.push((
+            k.to_string(),
+            v.clone(),
+            format!("--{}", k.replace('_', "-")),
+        ));
     }
     for s in &args.set {
         let (k, v) = s
             .split_once('=')
             .ok_or_else(|| bad(format!("--set {s}: expected key=value")))?;
-        given.push((k.trim().to_string(), v.trim().to_string(), format!("--set {s}")));
+        given.push((
+            k.trim().to_string(),
+            v.trim().to_string(),
+            format!("--set {s}"),
+        ));
     }
     let mut values = Values::new();
     for (k, v) in engine.example {
@@ -151,11 +159,13 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
     ];
     let (clock, length, every) = match lengths.into_iter().find(|(_, v)| v.is_some()) {
         Some((clock, Some(length))) => {
-            let every = args.report_every.unwrap_or(if clock == engine.example_run.0 {
-                engine.example_run.2.min(length)
-            } else {
-                length / 10.0
-            });
+            let every = args
+                .report_every
+                .unwrap_or(if clock == engine.example_run.0 {
+                    engine.example_run.2.min(length)
+                } else {
+                    length / 10.0
+                });
             (clock, length, every)
         }
         _ => {
@@ -177,7 +187,7 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
     })?;
     let mut settings = engine.analysis.default_settings();
     if let Some(g) = &args.grid {
-        if g.len() != 3 || g.iter().any(|&k| k == 0) {
+        if g.len() != 3 || g.contains(&0) {
             return Err(bad(format!(
                 "--grid needs three cell counts >= 1, as N1,N2,N3 (got {g:?})"
             )));

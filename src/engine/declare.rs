@@ -260,6 +260,9 @@ pub struct RatioDef {
     pub doc: &'static str,
 }
 
+/// A built or restored engine.
+pub type BuiltEngine = Result<Box<dyn Engine>, EngineError>;
+
 /// Everything the rest of granflow needs to know about an engine, declared once.
 pub struct EngineDef {
     /// the name in sweep files (`engine: "edmd"`) and checkpoints (at most 7 letters/digits)
@@ -279,9 +282,9 @@ pub struct EngineDef {
     /// with a default is already present.
     pub resolve: fn(&mut Values) -> Result<(), Problem>,
     /// a fresh engine from resolved values and a seed
-    pub build: fn(&Values, u64) -> Result<Box<dyn Engine>, EngineError>,
+    pub build: fn(&Values, u64) -> BuiltEngine,
     /// an engine from a checkpoint payload of the given format version
-    pub restore: fn(u32, &[u8]) -> Result<Box<dyn Engine>, EngineError>,
+    pub restore: fn(u32, &[u8]) -> BuiltEngine,
     /// what a job's size is called in `plan` and progress lines ("N", "sites")
     pub size_name: &'static str,
     /// the job's size (particles, sites) from resolved values
@@ -357,9 +360,9 @@ impl EngineDef {
     pub fn resolve_values(&self, given: &Values) -> Result<Values, Problem> {
         let mut values = given.clone();
         for (key, value) in &values {
-            let def = self
-                .param(key)
-                .ok_or_else(|| Problem::new(key, format!("not a parameter of the {} engine", self.name)))?;
+            let def = self.param(key).ok_or_else(|| {
+                Problem::new(key, format!("not a parameter of the {} engine", self.name))
+            })?;
             def.check_value(value).map_err(|m| Problem::new(key, m))?;
         }
         for def in self.params {

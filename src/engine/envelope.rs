@@ -57,7 +57,10 @@ pub fn open(bytes: &[u8]) -> Result<Sealed<'_>, EngineError> {
         ));
     }
     let name_bytes = &bytes[PREFIX.len()..MAGIC_LEN];
-    let end = name_bytes.iter().position(|&b| b == 0).unwrap_or(name_bytes.len());
+    let end = name_bytes
+        .iter()
+        .position(|&b| b == 0)
+        .unwrap_or(name_bytes.len());
     let name = &name_bytes[..end];
     if &bytes[..PREFIX.len()] != PREFIX
         || name.is_empty()
@@ -95,7 +98,10 @@ mod tests {
         let bytes = seal("lga", 3, b"state");
         assert_eq!(&bytes[..16], b"GRANFLOW-LGA\0\0\0\0");
         let s = open(&bytes).unwrap();
-        assert_eq!((s.engine.as_str(), s.version, s.payload), ("lga", 3, &b"state"[..]));
+        assert_eq!(
+            (s.engine.as_str(), s.version, s.payload),
+            ("lga", 3, &b"state"[..])
+        );
     }
 
     #[test]

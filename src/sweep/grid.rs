@@ -97,7 +97,8 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
         for link in &spec.linked {
             let explicit =
                 matches!(from, From::Point(i) if spec.points[i].0.contains_key(&link.param));
-            if !explicit && let Some(followed) = values.get(&link.follows).and_then(ParamValue::as_f64)
+            if !explicit
+                && let Some(followed) = values.get(&link.follows).and_then(ParamValue::as_f64)
             {
                 put(
                     &mut values,

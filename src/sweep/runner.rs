@@ -220,8 +220,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         );
                         bar.set_prefix(job.id.0.clone());
                         // work per unit of the run's clock (the estimate is linear in it)
-                        let work_per_clock =
-                            job.params.estimated_work() / job.params.run.length();
+                        let work_per_clock = job.params.estimated_work() / job.params.run.length();
                         let unit = job.params.run.clock().unit();
                         let mut last = store::checkpoint_progress(&dir).unwrap_or(0.0);
                         overall.inc((last * work_per_clock) as u64);

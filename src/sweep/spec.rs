@@ -350,7 +350,10 @@ fn hint(code: &ron::Error) -> String {
 }
 
 /// The closest of `candidates` to a misspelt `key`, when it is close enough to be a typo.
-pub fn did_you_mean<'a>(key: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+pub fn did_you_mean<'a>(
+    key: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
     candidates
         .into_iter()
         .map(|c| (strsim::damerau_levenshtein(key, c), c))
@@ -388,8 +391,16 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
                 Err(_) => Err(bad(Some(key), format!("`{s}` is not a number"))),
             }
         };
-        let engine = engine_of(spec)
-            .ok_or_else(|| bad(None, format!("engine \"{}\" does not exist; allowed: {}", spec.engine, registry::names())))?;
+        let engine = engine_of(spec).ok_or_else(|| {
+            bad(
+                None,
+                format!(
+                    "engine \"{}\" does not exist; allowed: {}",
+                    spec.engine,
+                    registry::names()
+                ),
+            )
+        })?;
         if key == "seed" || key == "seeds" {
             let mut seeds = Vec::new();
             for s in &values {
@@ -438,7 +449,8 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
                 spec.fixed.0.remove(*name);
                 spec.axes.0.remove(*name);
             }
-            spec.linked.retain(|l| !replaced.contains(&l.param.as_str()));
+            spec.linked
+                .retain(|l| !replaced.contains(&l.param.as_str()));
             if parsed.len() == 1 {
                 spec.fixed.0.insert(def.name.into(), parsed[0].clone());
             } else {

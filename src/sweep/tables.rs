@@ -58,7 +58,10 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
     let jobs = collect(sweep, dirs);
     let engine = super::spec::engine_of(&sweep.spec).expect("a loaded sweep names an engine");
     std::fs::create_dir_all(&dirs.tables)?;
-    write_parquet(&dirs.tables.join("jobs.parquet"), jobs_frame(engine, &jobs)?)?;
+    write_parquet(
+        &dirs.tables.join("jobs.parquet"),
+        jobs_frame(engine, &jobs)?,
+    )?;
     for table in engine.analysis.tables() {
         write_parquet(
             &dirs.tables.join(format!("{}.parquet", table.name)),
@@ -282,10 +285,9 @@ fn jobs_frame(engine: &EngineDef, jobs: &[GatheredJob]) -> anyhow::Result<DataFr
     }
     for clock in engine.clocks {
         cols.push(match clock {
-            Clock::CollisionsPerParticle => Column::new(
-                clock.key().into(),
-                rf(&|x| x.collisions_per_particle),
-            ),
+            Clock::CollisionsPerParticle => {
+                Column::new(clock.key().into(), rf(&|x| x.collisions_per_particle))
+            }
             Clock::Steps => Column::new(clock.key().into(), r(&|x| x.steps)),
             Clock::Time => Column::new(clock.key().into(), rf(&|x| x.time)),
         });

@@ -1,0 +1,297 @@
+//! The engine registry (issue 12, part 1): job ids of the sweeps shipped before it exist are
+//! unchanged, files written before it still read (and resume to the same result), EDMD tables
+//! keep their columns, README's parameter tables are the declarations', and keys are checked
+//! against the engine a sweep names.
+
+use granflow::engine::{ParamValue, registry};
+use granflow::sweep::execute::{self, JobEnd};
+use granflow::sweep::{load_sweep, store};
+use polars::prelude::*;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_granflow");
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("registry-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn granflow(args: &[&str]) -> Output {
+    Command::new(BIN).args(args).output().unwrap()
+}
+
+/// Copies of the sweep files shipped at 7062f8f give the ids that binary printed.
+#[test]
+fn shipped_sweep_ids_are_pinned() {
+    let dir = fixtures().join("sweeps-7062f8f");
+    let pinned = std::fs::read_to_string(dir.join("ids.txt")).unwrap();
+    let mut files: Vec<&str> = pinned
+        .lines()
+        .map(|l| l.split(' ').next().unwrap())
+        .collect();
+    files.dedup();
+    assert_eq!(files.len(), 4, "four shipped sweeps");
+    let mut checked = 0;
+    for file in files {
+        let sweep = load_sweep(&dir.join(file), &[]).unwrap();
+        let expect: Vec<(usize, &str)> = pinned
+            .lines()
+            .filter(|l| l.starts_with(&format!("{file} ")))
+            .map(|l| {
+                let parts: Vec<&str> = l.split(' ').collect();
+                (parts[1].parse().unwrap(), parts[2])
+            })
+            .collect();
+        assert_eq!(sweep.plan.len(), expect.len(), "{file}: number of jobs");
+        for (index, id) in expect {
+            assert_eq!(sweep.plan[index].id.0, id, "{file}: job {index}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 22);
+}
+
+/// The comparable part of a result: everything except wall-clock figures.
+fn deterministic(mut r: store::JobResult) -> String {
+    r.wall_seconds = 0.0;
+    r.events_per_second = 0.0;
+    ron::to_string(&r).unwrap()
+}
+
+/// A job directory of the pre-registry binary: its result and checkpoint (format 1) read; a
+/// job resumed from that checkpoint, and the same job run afresh, end with its result; the
+/// tables of an EDMD sweep have the columns (names and types) that binary wrote.
+#[test]
+fn pre_registry_files_still_read() {
+    let old = fixtures().join("pre-registry-job");
+    let old_result = store::read_result(&old).expect("an old result.ron reads");
+    assert_eq!(old_result.engine, "edmd");
+    assert!(old_result.counters.get("pair_collisions") > 0);
+    let cp = store::read_checkpoint(&old)
+        .unwrap()
+        .expect("old checkpoint");
+    assert_eq!(cp.format, 1);
+    assert_eq!(cp.snapshot, 4);
+    assert_eq!(cp.records.len(), 5);
+    let engine = granflow::engine::restore(&cp.engine).expect("old engine bytes restore");
+    assert_eq!(engine.def().name, "edmd");
+
+    let sweep = load_sweep(&old.join("tiny.ron"), &[]).unwrap();
+    let job = &sweep.plan[0];
+    assert_eq!(job.id.0, "3b8f366cc0133d90");
+    let dir = scratch("pre-registry");
+    let finish = |jd: &Path| {
+        let claim = store::try_claim(jd, false).unwrap().unwrap();
+        match execute::run_job(job, &claim, None, &mut |_| {}).unwrap() {
+            JobEnd::Finished(r) => *r,
+            JobEnd::Stopped => panic!("not finished"),
+        }
+    };
+    let resumed = dir.join("resumed");
+    std::fs::create_dir_all(&resumed).unwrap();
+    for f in ["params.json", "checkpoint.bin"] {
+        std::fs::copy(old.join(f), resumed.join(f)).unwrap();
+    }
+    let fresh = dir.join("fresh");
+    store::init_job_dir(&fresh, job).unwrap();
+    let expect = deterministic(old_result.clone());
+    assert_eq!(
+        deterministic(finish(&resumed)),
+        expect,
+        "resumed from the old checkpoint"
+    );
+    assert_eq!(deterministic(finish(&fresh)), expect, "run afresh");
+
+    // the tables: same columns, same types, as the old binary's
+    let results = dir.join("results");
+    let out = granflow(&[
+        "run",
+        old.join("tiny.ron").to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+        "--threads",
+        "1",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for table in ["jobs", "spectra", "profiles", "energy"] {
+        let schema = |path: PathBuf| {
+            let mut file = std::fs::File::open(&path).unwrap();
+            ParquetReader::new(&mut file).schema().unwrap()
+        };
+        let was = schema(old.join(format!("{table}.parquet")));
+        let now = schema(results.join(format!("tiny/{table}.parquet")));
+        let names = |s: &ArrowSchema| s.iter_names().map(|n| n.to_string()).collect::<Vec<_>>();
+        assert_eq!(names(&now), names(&was), "{table}: columns");
+        for (name, field) in was.iter() {
+            assert_eq!(
+                now.get(name).map(|f| &f.dtype),
+                Some(&field.dtype),
+                "{table}.{name}: type"
+            );
+        }
+    }
+}
+
+/// README's parameter tables are exactly what the declarations generate.
+#[test]
+fn readme_parameter_tables_match_the_declarations() {
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let out = granflow(&["engines", "--markdown"]);
+    assert!(out.status.success());
+    let generated = String::from_utf8(out.stdout).unwrap();
+    assert!(!generated.trim().is_empty());
+    for engine in registry::ENGINES {
+        let table = engine.markdown_table();
+        assert!(generated.contains(&table));
+        assert!(
+            readme.contains(&table),
+            "README lacks the current parameter table of `{}`; paste `granflow engines --markdown`:\n{table}",
+            engine.name
+        );
+    }
+}
+
+fn write_sweep(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("s.ron");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+const FIXED: &str = "width_over_diameter: 4.0, height_over_diameter: 4.0";
+
+fn rejected(name: &str, text: &str, expect: &[&str]) {
+    let dir = scratch(name);
+    let file = write_sweep(&dir, text);
+    let results = dir.join("results");
+    let out = granflow(&[
+        "plan",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+    for e in expect {
+        assert!(stderr.contains(e), "{name}: expected `{e}` in {stderr}");
+    }
+}
+
+#[test]
+fn keys_are_checked_against_the_engine() {
+    // a misspelt parameter: its own position and a suggestion
+    rejected(
+        "typo",
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15, roughnes: 0.2),\n axes: (length_over_width: [1.0]), run: (collisions_per_particle: 10, snapshot_interval: 5))"
+        ),
+        &["s.ron:1:", "fixed.roughnes", "did you mean `roughness`"],
+    );
+    // phi and N both given in one place
+    rejected(
+        "phi-and-n",
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15, particles: 30),\n axes: (length_over_width: [1.0]), run: (collisions_per_particle: 10, snapshot_interval: 5))"
+        ),
+        &["particles", "both given"],
+    );
+    // a run length on a clock the engine does not have
+    rejected(
+        "clock",
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15),\n axes: (length_over_width: [1.0]),\n run: (steps: 10, snapshot_interval: 5))"
+        ),
+        &["run.steps", "collisions_per_particle, time"],
+    );
+    // non-finite values
+    rejected(
+        "nan",
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15),\n axes: (length_over_width: [1.0], restitution: [NaN, 0.9]), run: (collisions_per_particle: 10, snapshot_interval: 5))"
+        ),
+        &["axes.restitution", "not a finite number"],
+    );
+    // a missing section is named at the start of the file, not at its end
+    rejected(
+        "missing-engine",
+        &format!(
+            "(fixed: ({FIXED}, volume_fraction: 0.15),\n axes: (length_over_width: [1.0]),\n run: (collisions_per_particle: 10, snapshot_interval: 5))"
+        ),
+        &["s.ron:1:1", "engine"],
+    );
+}
+
+/// A point's N replaces the fixed phi (alternatives), and `--set` does the same.
+#[test]
+fn alternatives_replace_each_other() {
+    let dir = scratch("alternatives");
+    let file = write_sweep(
+        &dir,
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15), axes: (length_over_width: [1.0]),\n points: [(length_over_width: 2.0, particles: 20)],\n run: (collisions_per_particle: 10, snapshot_interval: 5))"
+        ),
+    );
+    let sweep = load_sweep(&file, &[]).unwrap();
+    assert_eq!(sweep.plan[1].params.get("particles"), 20.0);
+    let set = load_sweep(&file, &["particles=25".into()]).unwrap();
+    assert_eq!(set.plan[0].params.get("particles"), 25.0);
+    assert!(!set.spec.fixed.0.contains_key("volume_fraction"));
+    assert_eq!(
+        set.plan[0].params.values.get("volume_fraction"),
+        Some(&ParamValue::Number(
+            25.0 * std::f64::consts::PI / 6.0 / 64.0
+        ))
+    );
+}
+
+/// `sim` rejects bad input with exit code 2 before printing anything.
+#[test]
+fn sim_rejects_bad_input_before_running() {
+    for args in [
+        vec!["sim", "--restitution", "1.5"],
+        vec!["sim", "--set", "no_such=1"],
+        vec!["sim", "--engine", "nope"],
+        vec!["sim", "--steps", "10"],
+        vec!["sim", "--volume-fraction", "0.7"],
+    ] {
+        let out = granflow(&args);
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            out.stdout.is_empty(),
+            "{args:?} printed {}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+    }
+    let out = granflow(&[
+        "sim",
+        "--collisions-per-particle",
+        "20",
+        "--report-every",
+        "10",
+        "--set",
+        "restitution=0.9",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("e = 0.9"), "{text}");
+}
