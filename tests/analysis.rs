@@ -52,9 +52,15 @@ fn snapshot(g: BoxGeometry, positions: Vec<[f64; 3]>, cpp: f64) -> Snapshot {
             angular_velocities: vec![[0.0; 3]; n],
             translational_energy: n as f64,
             rotational_energy: 0.1 * n as f64,
-            wall_momentum: [[0.0; 3]; 2],
-            energy_dissipated: 0.0,
-            gravity_work: 0.0,
+            // the balances of a steady flow (time = cpp here): the walls take N m g per unit
+            // time, dissipation matches the work of gravity
+            wall_momentum: [
+                [0.5 * n as f64 * cpp, 0.0, 0.0],
+                [0.5 * n as f64 * cpp, 0.0, 0.0],
+            ],
+            energy_dissipated: n as f64 * cpp,
+            gravity_work: n as f64 * cpp,
+            suppressed_dissipation: 0.0,
         }),
     }
 }

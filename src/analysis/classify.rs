@@ -445,31 +445,37 @@ pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64) -> Assessment {
         }
     }
     let coherence = if total > 0.0 { best.1 / total } else { 0.0 };
-    let [transverse, along, anti, sym, span] = sig;
-    let (label, humps) = if anti && along {
-        if coherence >= COHERENCE_THRESHOLD {
-            ("s-wave+slug", best.0 as u32)
-        } else {
-            ("wavy-slug", 0)
-        }
-    } else if anti {
-        ("s-wave", best.0 as u32)
-    } else if along {
-        ("slug", 0)
-    } else if transverse || sym {
-        ("plug", 0)
-    } else {
-        ("homogeneous", 0)
-    };
+    let (label, humps) = name_structure(sig, coherence, best.0 as u32);
     Assessment {
         label,
         humps,
-        three_dimensional: span,
+        three_dimensional: sig[4],
         ratios,
         thresholds,
         peaks,
         significance,
         antisymmetric_kx: best.0 as u32,
         coherence,
+    }
+}
+
+/// The structure named by which families are significant ([`FAMILY_NAMES`] order), the
+/// coherence of the antisymmetric excess and its dominant k_x (README's label table).
+pub fn name_structure(significant: [bool; 5], coherence: f64, kx: u32) -> (&'static str, u32) {
+    let [transverse, along, anti, sym, _span] = significant;
+    if anti && along {
+        if coherence >= COHERENCE_THRESHOLD {
+            ("s-wave+slug", kx)
+        } else {
+            ("wavy-slug", 0)
+        }
+    } else if anti {
+        ("s-wave", kx)
+    } else if along {
+        ("slug", 0)
+    } else if transverse || sym {
+        ("plug", 0)
+    } else {
+        ("homogeneous", 0)
     }
 }

@@ -11,10 +11,12 @@
 //! strings of the result), [`snapshot_io`] (XYZ and VTK files). The definitions, defaults and thresholds are documented in README.md, section
 //! "Analysis and structure classifier".
 
+pub mod balance;
 pub mod classify;
 pub mod columns;
 pub mod fields;
 mod kind;
+pub mod labels;
 pub mod profiles;
 mod report;
 pub mod snapshot_io;
@@ -131,6 +133,30 @@ pub struct SnapshotRecord {
     /// per-bin sums of the cross-channel profiles
     #[serde(default)]
     pub profile: Vec<BinSums>,
+    /// cumulative x-impulse delivered to both walls (the momentum balance; NaN: not recorded)
+    #[serde(default = "nan")]
+    pub wall_impulse_x: f64,
+    /// total x-momentum sum m c_x
+    #[serde(default = "nan")]
+    pub momentum_x: f64,
+    /// cumulative energy dissipated in collisions (the energy balance)
+    #[serde(default = "nan")]
+    pub energy_dissipated: f64,
+    /// cumulative work of gravity
+    #[serde(default = "nan")]
+    pub gravity_work: f64,
+    /// cumulative energy the collapse guard kept from being dissipated
+    #[serde(default = "nan")]
+    pub suppressed_dissipation: f64,
+    /// pair collisions so far, and those the collapse guard (TC model) made elastic
+    #[serde(default)]
+    pub pair_collisions: u64,
+    #[serde(default)]
+    pub tc_elastic_collisions: u64,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// One job's analysis, in the shape the sweep tables need.
@@ -213,6 +239,45 @@ pub struct Summary {
     pub particles: u64,
     /// why a run is not steady, or other caveats (empty when there are none)
     pub note: String,
+    /// per-snapshot labels over the window: "label p; label p" (most frequent first)
+    #[serde(default)]
+    pub label_probabilities: String,
+    /// the structure the families present in most snapshots name (the label unless mixed)
+    #[serde(default)]
+    pub candidate_label: String,
+    /// fraction of the window's snapshots carrying the candidate label
+    #[serde(default = "nan")]
+    pub label_probability: f64,
+    /// fraction of the window's snapshots in which each family is significant
+    #[serde(default = "nan")]
+    pub presence_transverse: f64,
+    #[serde(default = "nan")]
+    pub presence_along_flow: f64,
+    #[serde(default = "nan")]
+    pub presence_antisymmetric: f64,
+    #[serde(default = "nan")]
+    pub presence_symmetric_rest: f64,
+    #[serde(default = "nan")]
+    pub presence_spanwise: f64,
+    /// wall x-impulse rate over N m g across the window (1 when steady), and its error
+    #[serde(default = "nan")]
+    pub momentum_balance: f64,
+    #[serde(default = "nan")]
+    pub momentum_balance_error: f64,
+    /// dissipation over the work of gravity across the window (1 when steady), and its error
+    #[serde(default = "nan")]
+    pub energy_balance: f64,
+    #[serde(default = "nan")]
+    pub energy_balance_error: f64,
+    /// over the window: fraction of pair collisions the TC model made elastic, and fraction of
+    /// the dissipation of constant e that it suppressed
+    #[serde(default = "nan")]
+    pub window_tc_elastic_fraction: f64,
+    #[serde(default = "nan")]
+    pub window_suppressed_dissipation: f64,
+    /// the collapse guard stayed within its validity limit over the window
+    #[serde(default)]
+    pub collapse_guard_valid: bool,
 }
 
 /// One row of a folded, window-averaged power spectrum.
@@ -281,6 +346,13 @@ pub fn record_snapshot(snapshot: &Snapshot, settings: &AnalysisSettings) -> Snap
         counts_xz: xz,
         counts_yz: yz,
         profile: profiles::bin_sums(particles, &grid, settings.profile_bins),
+        wall_impulse_x: particles.wall_momentum[0][0] + particles.wall_momentum[1][0],
+        momentum_x: particles.velocities.iter().map(|v| v[0]).sum(),
+        energy_dissipated: particles.energy_dissipated,
+        gravity_work: particles.gravity_work,
+        suppressed_dissipation: particles.suppressed_dissipation,
+        pair_collisions: snapshot.counters.get("pair_collisions"),
+        tc_elastic_collisions: snapshot.counters.get("tc_elastic_collisions"),
     }
 }
 
@@ -327,10 +399,17 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         .collect();
     let clock: Vec<f64> = records.iter().map(|r| r.collisions_per_particle).collect();
     let trace: Vec<f64> = records.iter().map(|r| r.translational_energy).collect();
-    let window = steady::detect(&clock, &trace, settings.min_steady_snapshots);
-    let in_window = &records[window.start.min(records.len())..];
+    let plateau = steady::detect(&clock, &trace, settings.min_steady_snapshots);
+    let in_window = &records[plateau.start.min(records.len())..];
+    let momentum = balance::momentum_balance(in_window);
+    let energy_balance = balance::energy_balance(in_window);
+    let window = steady::confirm_by_balances(
+        plateau,
+        &[("momentum", momentum), ("energy", energy_balance)],
+    );
 
-    // per-snapshot family powers (records with a usable grid, same grid as the last record)
+    // per-snapshot family powers and verdicts (records with a usable grid, same grid as the
+    // last record)
     let reference = records.iter().rev().find(|r| has_fields(r));
     let same_grid = |r: &SnapshotRecord| {
         has_fields(r) && reference.is_some_and(|q| q.grid == r.grid && q.particles == r.particles)
@@ -352,6 +431,10 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
     if let Some(q) = reference {
         let n = q.grid.map(|k| k as usize);
         let p0 = noise_per_mode(q.particles as usize, q.grid_volume);
+        let verdicts: Vec<Option<classify::Assessment>> = families
+            .iter()
+            .map(|f| f.as_ref().map(|f| assess(f, n, p0)))
+            .collect();
         // window average of the families and the spectra
         let used: Vec<&SnapshotRecord> = in_window.iter().filter(|r| same_grid(r)).collect();
         let mut avg = FamilyPowers::zero(n);
@@ -369,6 +452,9 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         }
         if !used.is_empty() {
             let a = assess(&avg, n, p0);
+            let in_window_verdicts: Vec<classify::Assessment> =
+                verdicts[window.start..].iter().flatten().cloned().collect();
+            let stats = labels::statistics(&in_window_verdicts, &a);
             summary.dominant_modes = dominant_modes(&avg.xy, n[0], n[1], p0, 5);
             for (plane, folded) in [&avg.xy, &avg.xz, &avg.yz].into_iter().enumerate() {
                 spectra.extend(spectrum_rows(folded, n, plane));
@@ -380,6 +466,16 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
                 summary.significance_symmetric_rest,
                 summary.significance_spanwise,
             ] = a.significance;
+            [
+                summary.presence_transverse,
+                summary.presence_along_flow,
+                summary.presence_antisymmetric,
+                summary.presence_symmetric_rest,
+                summary.presence_spanwise,
+            ] = stats.presence;
+            summary.label_probabilities = labels::probabilities_text(&stats.probabilities);
+            summary.candidate_label = labels::label_key(&stats.candidate, stats.humps);
+            summary.label_probability = stats.probability;
             summary.family_peaks = family_peaks(&a);
             summary.power_transverse = avg.transverse;
             summary.power_along_flow = avg.along_flow;
@@ -403,21 +499,31 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
             summary.antisymmetric_kx = a.antisymmetric_kx;
             summary.antisymmetric_coherence = a.coherence;
             if window.steady {
-                summary.label = a.label.into();
-                summary.humps = a.humps;
+                summary.label = stats.label.clone();
+                summary.humps = stats.humps;
                 summary.three_dimensional = a.three_dimensional;
+                if stats.label == "mixed" {
+                    notes.push(format!(
+                        "mixed: no label holds in {:.0} % of the snapshots ({}); the families present in most snapshots name \"{}\" ({:.2})",
+                        100.0 * labels::CLEAR_MAJORITY,
+                        summary.label_probabilities,
+                        stats.candidate,
+                        stats.probability
+                    ));
+                }
             } else {
                 notes.push(format!(
-                    "the final window alone would read \"{}\"{}",
-                    a.label,
-                    if a.three_dimensional { " (3D)" } else { "" }
+                    "the final window alone would read \"{}\"{} ({})",
+                    stats.label,
+                    if a.three_dimensional { " (3D)" } else { "" },
+                    summary.label_probabilities
                 ));
             }
         }
         summary.noise_level = p0;
         [summary.grid_x, summary.grid_y, summary.grid_z] = q.grid;
         summary.particles = q.particles;
-        evolution = structure_evolution(records, &families, n, p0);
+        evolution = structure_evolution(records, &verdicts);
     }
     if window.steady && reference.is_none() {
         summary.label = "unclassified".into();
@@ -425,6 +531,40 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
     }
     if !window.steady {
         notes.insert(0, format!("not steady: {}", window.reason));
+    }
+    for (b, (ratio, error)) in [
+        (
+            momentum,
+            (
+                &mut summary.momentum_balance,
+                &mut summary.momentum_balance_error,
+            ),
+        ),
+        (
+            energy_balance,
+            (
+                &mut summary.energy_balance,
+                &mut summary.energy_balance_error,
+            ),
+        ),
+    ] {
+        if let Some(b) = b {
+            (*ratio, *error) = (b.ratio, b.error);
+        }
+    }
+    let (tc_count, tc_energy) = balance::collapse_guard_fractions(in_window);
+    summary.window_tc_elastic_fraction = tc_count;
+    summary.window_suppressed_dissipation = tc_energy;
+    let unrecorded = in_window.iter().any(|r| r.suppressed_dissipation.is_nan());
+    summary.collapse_guard_valid = !unrecorded && !(tc_energy > balance::COLLAPSE_GUARD_LIMIT);
+    if tc_energy > balance::COLLAPSE_GUARD_LIMIT {
+        notes.push(format!(
+            "collapse guard beyond its validity: the TC model suppressed {:.1} % of the dissipation of constant e over the window (limit {:.0} %); lower tc",
+            100.0 * tc_energy,
+            100.0 * balance::COLLAPSE_GUARD_LIMIT
+        ));
+    } else if unrecorded {
+        notes.push("the collapse guard's suppressed dissipation was not recorded".into());
     }
     summary.steady = window.steady;
     if let (Some(first), Some(last)) = (in_window.first(), in_window.last()) {

@@ -1,7 +1,7 @@
 //! Pieces of a job's result: the structure evolution from per-snapshot labels, spectrum rows,
 //! the dominant-mode and family-peak strings, and the empty summary.
 
-use super::classify::{self, FamilyPowers, assess};
+use super::classify;
 use super::spectrum::{folded_shape, multiplicity};
 use super::{SnapshotRecord, SpectrumRow, StructureChange, Summary};
 
@@ -14,18 +14,14 @@ pub const MIN_LABEL_RUN: usize = 2;
 /// least [`MIN_LABEL_RUN`] snapshots with a new (label, humps).
 pub(super) fn structure_evolution(
     records: &[SnapshotRecord],
-    families: &[Option<FamilyPowers>],
-    n: [usize; 3],
-    p0: f64,
+    verdicts: &[Option<classify::Assessment>],
 ) -> Vec<StructureChange> {
     let labels: Vec<(f64, &'static str, u32)> = records
         .iter()
-        .zip(families)
-        .filter_map(|(r, f)| {
-            f.as_ref().map(|f| {
-                let a = assess(f, n, p0);
-                (r.collisions_per_particle, a.label, a.humps)
-            })
+        .zip(verdicts)
+        .filter_map(|(r, a)| {
+            a.as_ref()
+                .map(|a| (r.collisions_per_particle, a.label, a.humps))
         })
         .collect();
     let mut out: Vec<StructureChange> = Vec::new();
@@ -132,6 +128,21 @@ pub(super) fn dominant_modes(
 pub(super) fn empty_summary() -> Summary {
     Summary {
         label: "not-steady".into(),
+        label_probabilities: String::new(),
+        candidate_label: String::new(),
+        label_probability: f64::NAN,
+        presence_transverse: f64::NAN,
+        presence_along_flow: f64::NAN,
+        presence_antisymmetric: f64::NAN,
+        presence_symmetric_rest: f64::NAN,
+        presence_spanwise: f64::NAN,
+        momentum_balance: f64::NAN,
+        momentum_balance_error: f64::NAN,
+        energy_balance: f64::NAN,
+        energy_balance_error: f64::NAN,
+        window_tc_elastic_fraction: f64::NAN,
+        window_suppressed_dissipation: f64::NAN,
+        collapse_guard_valid: false,
         humps: 0,
         three_dimensional: false,
         steady: false,

@@ -180,6 +180,10 @@ pub struct Particles {
     pub energy_dissipated: f64,
     /// cumulative work done by gravity, m g sum of x-displacements
     pub gravity_work: f64,
+    /// cumulative energy a collapse guard (EDMD's TC model) kept from being dissipated: what
+    /// the collisions it altered would have dissipated in addition under the model's own
+    /// collision law (0 for engines without one; NaN where unknown)
+    pub suppressed_dissipation: f64,
 }
 
 impl Particles {

@@ -13,7 +13,7 @@
 use super::grid::PlannedJob;
 use super::job::{JobId, JobParams};
 use super::write_atomic;
-use crate::analysis::{Analysis, Record, SnapshotRecord};
+use crate::analysis::{Analysis, BinSums, Record, SnapshotRecord};
 use crate::engine::Counters;
 use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
@@ -200,14 +200,63 @@ pub struct JobCheckpoint {
     pub wall_seconds: f64,
 }
 
-/// Format 1 (before engines were plug-ins): the records were the structure analysis's.
+/// Format 1 (before engines were plug-ins): the records were the structure analysis's, in
+/// the layout of [`SnapshotRecordV1`].
 #[derive(Deserialize)]
 struct JobCheckpointV1 {
     format: u32,
     snapshot: u32,
     engine: Vec<u8>,
-    records: Vec<SnapshotRecord>,
+    records: Vec<SnapshotRecordV1>,
     wall_seconds: f64,
+}
+
+/// A structure record as format 1 stored it (frozen: postcard needs the exact layout). The
+/// balance totals it lacks read as NaN (unknown).
+#[derive(Deserialize)]
+struct SnapshotRecordV1 {
+    collisions_per_particle: f64,
+    time: f64,
+    translational_energy: f64,
+    rotational_energy: f64,
+    particles: u64,
+    box_extent: [f64; 3],
+    gravity: f64,
+    inertia_factor: f64,
+    grid: [u32; 3],
+    grid_volume: f64,
+    counts_xy: Vec<u32>,
+    counts_xz: Vec<u32>,
+    counts_yz: Vec<u32>,
+    profile: Vec<BinSums>,
+}
+
+impl From<SnapshotRecordV1> for SnapshotRecord {
+    fn from(r: SnapshotRecordV1) -> Self {
+        SnapshotRecord {
+            collisions_per_particle: r.collisions_per_particle,
+            time: r.time,
+            translational_energy: r.translational_energy,
+            rotational_energy: r.rotational_energy,
+            particles: r.particles,
+            box_extent: r.box_extent,
+            gravity: r.gravity,
+            inertia_factor: r.inertia_factor,
+            grid: r.grid,
+            grid_volume: r.grid_volume,
+            counts_xy: r.counts_xy,
+            counts_xz: r.counts_xz,
+            counts_yz: r.counts_yz,
+            profile: r.profile,
+            wall_impulse_x: f64::NAN,
+            momentum_x: f64::NAN,
+            energy_dissipated: f64::NAN,
+            gravity_work: f64::NAN,
+            suppressed_dissipation: f64::NAN,
+            pair_collisions: 0,
+            tc_elastic_collisions: 0,
+        }
+    }
 }
 
 impl JobCheckpoint {
@@ -298,7 +347,11 @@ pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
                 format: v1.format,
                 snapshot: v1.snapshot,
                 engine: v1.engine,
-                records: v1.records.into_iter().map(Record::Structure).collect(),
+                records: v1
+                    .records
+                    .into_iter()
+                    .map(|r| Record::Structure(r.into()))
+                    .collect(),
                 wall_seconds: v1.wall_seconds,
             }
         }

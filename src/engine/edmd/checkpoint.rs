@@ -9,8 +9,9 @@ use serde::{Deserialize, Serialize};
 
 /// The name the envelope carries.
 pub const ENGINE: &str = "edmd";
-/// Version of the payload layout; bump it when `EngineState` changes.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the payload layout; bump it when `EngineState` changes (version 1 lacked
+/// `suppressed_dissipation`; it still reads, with that total unknown: NaN).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Event counters of a run (cumulative since the start of the run, kept across checkpoints).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -54,6 +55,25 @@ pub struct EngineState {
     pub wall_momentum: [[f64; 3]; 2],
     pub dissipated: f64,
     pub gravity_work: f64,
+    /// cumulative energy the TC model kept from being dissipated (NaN: unknown, for runs
+    /// resumed from a version-1 checkpoint)
+    pub suppressed_dissipation: f64,
+}
+
+/// The payload of format version 1 (frozen: it decodes checkpoints written before the TC
+/// model's suppressed dissipation was tracked).
+#[derive(Deserialize)]
+struct EngineStateV1 {
+    params: EdmdParams,
+    now: f64,
+    positions: Vec<[f64; 3]>,
+    velocities: Vec<[f64; 3]>,
+    angular_velocities: Vec<[f64; 3]>,
+    last_collision: Vec<f64>,
+    counters: EdmdCounters,
+    wall_momentum: [[f64; 3]; 2],
+    dissipated: f64,
+    gravity_work: f64,
 }
 
 /// Serialise a state into checkpoint bytes.
@@ -77,13 +97,32 @@ pub fn decode(bytes: &[u8]) -> Result<EngineState, EngineError> {
 /// Decode a payload taken out of its envelope.
 pub fn decode_payload(version: u32, payload: &[u8]) -> Result<EngineState, EngineError> {
     let fail = |why: String| Err(EngineError::Checkpoint(why));
-    if version != FORMAT_VERSION {
-        return fail(format!(
-            "format version {version}, this granflow reads version {FORMAT_VERSION}"
-        ));
-    }
-    let state: EngineState = postcard::from_bytes(payload)
-        .map_err(|e| EngineError::Checkpoint(format!("payload does not decode: {e}")))?;
+    let undecodable =
+        |e: postcard::Error| EngineError::Checkpoint(format!("payload does not decode: {e}"));
+    let state: EngineState = match version {
+        1 => {
+            let v1: EngineStateV1 = postcard::from_bytes(payload).map_err(undecodable)?;
+            EngineState {
+                params: v1.params,
+                now: v1.now,
+                positions: v1.positions,
+                velocities: v1.velocities,
+                angular_velocities: v1.angular_velocities,
+                last_collision: v1.last_collision,
+                counters: v1.counters,
+                wall_momentum: v1.wall_momentum,
+                dissipated: v1.dissipated,
+                gravity_work: v1.gravity_work,
+                suppressed_dissipation: f64::NAN,
+            }
+        }
+        FORMAT_VERSION => postcard::from_bytes(payload).map_err(undecodable)?,
+        _ => {
+            return fail(format!(
+                "format version {version}, this granflow reads versions 1 to {FORMAT_VERSION}"
+            ));
+        }
+    };
     let n = state.params.particles;
     if [
         state.positions.len(),

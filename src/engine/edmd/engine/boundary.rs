@@ -23,6 +23,7 @@ impl EdmdEngine {
             wall_momentum: self.wall_momentum,
             dissipated: self.dissipated,
             gravity_work: self.gravity_work,
+            suppressed_dissipation: self.suppressed_dissipation,
         }
     }
 }
@@ -126,6 +127,7 @@ impl Engine for EdmdEngine {
                 wall_momentum: self.wall_momentum,
                 energy_dissipated: self.dissipated,
                 gravity_work: self.gravity_work,
+                suppressed_dissipation: self.suppressed_dissipation,
             }),
         }
     }

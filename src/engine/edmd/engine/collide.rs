@@ -47,15 +47,6 @@ impl EdmdEngine {
         let tc = self.params.tc;
         let tc_elastic =
             tc > 0.0 && (t - self.last_collision[i] < tc || t - self.last_collision[j] < tc);
-        let law = if tc_elastic {
-            self.counters.tc_elastic_collisions += 1;
-            ContactLaw {
-                restitution: 1.0,
-                ..self.pair_law
-            }
-        } else {
-            self.pair_law
-        };
         let first = SphereVelocity {
             linear: self.kin[i].velocity.into(),
             angular: self.angular[i].into(),
@@ -63,6 +54,19 @@ impl EdmdEngine {
         let second = SphereVelocity {
             linear: self.kin[j].velocity.into(),
             angular: self.angular[j].into(),
+        };
+        let law = if tc_elastic {
+            self.counters.tc_elastic_collisions += 1;
+            // what constant e would have dissipated in addition: (m/4)(1 - e^2) g_n^2
+            let e = self.pair_law.restitution;
+            let g_n = k.dot(&collision::contact_velocity(&first, &second, &k));
+            self.suppressed_dissipation += 0.25 * (1.0 - e * e) * g_n * g_n;
+            ContactLaw {
+                restitution: 1.0,
+                ..self.pair_law
+            }
+        } else {
+            self.pair_law
         };
         let out = collision::pair_collision(&first, &second, &k, &law);
         self.kin[i].velocity = out.first.linear.into();

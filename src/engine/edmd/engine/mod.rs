@@ -168,6 +168,9 @@ pub struct EdmdEngine {
     wall_momentum: [[f64; 3]; 2],
     /// cumulative kinetic energy dissipated in collisions
     dissipated: f64,
+    /// cumulative energy the TC model kept from being dissipated: (1 - e^2) g_n^2 / 4 of
+    /// every collision it made elastic (what constant e would have dissipated in addition)
+    suppressed_dissipation: f64,
     /// cumulative work of gravity, m g sum of x-displacements
     gravity_work: f64,
     /// true directly after a snapshot: the state is synchronised and a checkpoint is valid
@@ -201,6 +204,7 @@ impl EdmdEngine {
             wall_momentum: [[0.0; 3]; 2],
             dissipated: 0.0,
             gravity_work: 0.0,
+            suppressed_dissipation: 0.0,
         };
         Ok(Self::from_state(state, search))
     }
@@ -307,6 +311,7 @@ impl EdmdEngine {
             counters: state.counters,
             wall_momentum: state.wall_momentum,
             dissipated: state.dissipated,
+            suppressed_dissipation: state.suppressed_dissipation,
             gravity_work: state.gravity_work,
             synchronised: true,
             log: None,
