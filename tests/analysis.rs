@@ -972,3 +972,118 @@ fn smooth_fields_classify_by_their_families() {
         ("s-wave+slug", 2)
     );
 }
+
+// ---------- labels with probabilities (issue 16) ----------
+
+/// Records of a sequence of structures, one sampled snapshot each, with a flat energy trace.
+fn sequence(
+    g: BoxGeometry,
+    structures: &[&dyn Fn(f64, f64, f64) -> f64],
+    seed: u64,
+) -> Vec<SnapshotRecord> {
+    let settings = AnalysisSettings::default();
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let n = n_for(&g);
+    structures
+        .iter()
+        .enumerate()
+        .map(|(s, rho)| {
+            record_snapshot(
+                &snapshot(g, sample(&g, n, rho, &mut rng), 100.0 * (s + 1) as f64),
+                &settings,
+            )
+        })
+        .collect()
+}
+
+/// A structure that holds in every snapshot: its label with probability 1, every family it
+/// needs present in all snapshots.
+#[test]
+fn a_stable_structure_has_probability_one() {
+    let g = test_box();
+    let s = slug(g, 0.0);
+    let records = sequence(g, &[&s as &dyn Fn(f64, f64, f64) -> f64; 12], 31);
+    let a = analyse_job(&records, &AnalysisSettings::default());
+    assert_eq!(a.summary.label, "slug", "{}", a.summary.note);
+    assert_eq!(a.summary.label_probability, 1.0);
+    assert_eq!(a.summary.label_probabilities, "slug 1.00");
+    assert_eq!(a.summary.presence_along_flow, 1.0);
+    assert_eq!(a.summary.presence_antisymmetric, 0.0);
+}
+
+/// A flicker between two structures with no two-thirds majority reads "mixed", with both
+/// labels and their fractions, and names what the present families say.
+#[test]
+fn a_flickering_structure_is_mixed() {
+    let g = test_box();
+    let (s, w) = (slug(g, 0.0), slug(g, 0.25));
+    // 7 slugs and 5 wavy slugs, interleaved
+    let seq: Vec<&dyn Fn(f64, f64, f64) -> f64> = (0..12)
+        .map(|i| {
+            if i % 5 == 1 || i % 5 == 3 {
+                &w as &dyn Fn(f64, f64, f64) -> f64
+            } else {
+                &s
+            }
+        })
+        .collect();
+    let records = sequence(g, &seq, 32);
+    let a = analyse_job(&records, &AnalysisSettings::default());
+    assert_eq!(a.summary.label, "mixed", "{}", a.summary.note);
+    assert!(a.summary.note.contains("mixed"), "{}", a.summary.note);
+    assert!(
+        a.summary.label_probabilities.starts_with("slug 0.58")
+            && a.summary.label_probabilities.contains("wavy-slug 0.42"),
+        "{}",
+        a.summary.label_probabilities
+    );
+    // along-flow in every snapshot, antisymmetric in 5 of 12: the families name a slug
+    assert_eq!(a.summary.candidate_label, "slug");
+    assert!((a.summary.presence_antisymmetric - 5.0 / 12.0).abs() < 1e-12);
+}
+
+/// A clear majority with a minority of another label keeps the majority label and reports
+/// the minority in the probabilities.
+#[test]
+fn a_clear_majority_keeps_its_label() {
+    let g = test_box();
+    let (s, w) = (slug(g, 0.0), slug(g, 0.25));
+    let seq: Vec<&dyn Fn(f64, f64, f64) -> f64> = (0..12)
+        .map(|i| {
+            if i == 4 || i == 9 {
+                &w as &dyn Fn(f64, f64, f64) -> f64
+            } else {
+                &s
+            }
+        })
+        .collect();
+    let a = analyse_job(&sequence(g, &seq, 33), &AnalysisSettings::default());
+    assert_eq!(a.summary.label, "slug", "{}", a.summary.note);
+    assert!((a.summary.label_probability - 10.0 / 12.0).abs() < 1e-12);
+    assert!(a.summary.label_probabilities.contains("wavy-slug 0.17"));
+}
+
+/// A drift from plug to slug is dated in the evolution; the steady window, which starts after
+/// the drift, carries the slug alone.
+#[test]
+fn a_drift_from_plug_to_slug_is_dated_and_the_window_holds_the_slug() {
+    let g = test_box();
+    let (p, s) = (band(g, 0), slug(g, 0.0));
+    let mut seq: Vec<&dyn Fn(f64, f64, f64) -> f64> = vec![&p as &dyn Fn(f64, f64, f64) -> f64; 6];
+    seq.extend(std::iter::repeat_n(&s as &dyn Fn(f64, f64, f64) -> f64, 12));
+    let mut records = sequence(g, &seq, 34);
+    // the energy settles when the slug forms: the plug's snapshots lie below the plateau
+    for r in records.iter_mut().take(6) {
+        r.translational_energy *= 0.5;
+    }
+    let a = analyse_job(&records, &AnalysisSettings::default());
+    let changes: Vec<(&str, f64)> = a
+        .evolution
+        .iter()
+        .map(|c| (c.label.as_str(), c.collisions_per_particle))
+        .collect();
+    assert_eq!(changes, vec![("plug", 100.0), ("slug", 700.0)]);
+    assert_eq!(a.summary.label, "slug", "{}", a.summary.note);
+    assert_eq!(a.summary.window_start, 700.0);
+    assert_eq!(a.summary.label_probability, 1.0);
+}

@@ -212,6 +212,36 @@ impl Analyser {
     }
 }
 
+/// What a kind keeps between the checks of run-until-steady.
+#[derive(Clone, Debug, Default)]
+pub struct StopCheck {
+    structure: super::SteadyCheck,
+}
+
+impl Analyser {
+    /// Run-until-steady's question after a snapshot, from the records alone: why the run may
+    /// stop (steady over at least `window` on `clock` with a stable label), or None.
+    pub fn steady_over(
+        &self,
+        records: &[Record],
+        clock: crate::engine::Clock,
+        window: f64,
+        check: &mut StopCheck,
+    ) -> Option<String> {
+        match self {
+            Analyser::Structure(s) => {
+                let records: Vec<SnapshotRecord> = records
+                    .iter()
+                    .map(|r| match r {
+                        Record::Structure(r) => r.clone(),
+                    })
+                    .collect();
+                super::steady_over(&records, s, clock, window, &mut check.structure)
+            }
+        }
+    }
+}
+
 impl Record {
     /// The reading of the run's main clock at the snapshot (collisions per particle or steps).
     pub fn clock(&self) -> f64 {

@@ -23,7 +23,7 @@ pub mod snapshot_io;
 pub mod spectrum;
 pub mod steady;
 
-pub use kind::{Analyser, Analysis, AnalysisKind, Record};
+pub use kind::{Analyser, Analysis, AnalysisKind, Record, StopCheck};
 pub use profiles::BinSums;
 pub use report::MIN_LABEL_RUN;
 pub use snapshot_io::{write_vtk_density, write_xyz};
@@ -369,6 +369,95 @@ pub fn plane_fields(record: &SnapshotRecord) -> [Vec<f64>; 3] {
         field(&record.counts_xz, n1 * n3),
         field(&record.counts_yz, n2 * n3),
     ]
+}
+
+/// Per-snapshot verdicts kept between the checks of run-until-steady (a cache: they follow
+/// from the records alone, so a resumed job recomputes them and decides the same).
+#[derive(Clone, Debug, Default)]
+pub struct SteadyCheck {
+    verdicts: Vec<Option<(FamilyPowers, classify::Assessment)>>,
+}
+
+/// The family powers of one record and the verdict on them, on its own grid (None without
+/// fields).
+fn verdict(r: &SnapshotRecord) -> Option<(FamilyPowers, classify::Assessment)> {
+    has_fields(r).then(|| {
+        let n = r.grid.map(|k| k as usize);
+        let [xy, xz, yz] = plane_fields(r);
+        let f = family_powers(&xy, &xz, &yz, n);
+        let a = assess(&f, n, noise_per_mode(r.particles as usize, r.grid_volume));
+        (f, a)
+    })
+}
+
+/// Run-until-steady's question after a snapshot: is the run steady by the documented rule
+/// (energy plateau confirmed by the balances) over a window at least `window` long on
+/// `clock`, with a label that holds a clear majority of the window's snapshots? Returns why it
+/// may stop, or None to go on.
+pub fn steady_over(
+    records: &[SnapshotRecord],
+    settings: &AnalysisSettings,
+    clock: crate::engine::Clock,
+    window: f64,
+    check: &mut SteadyCheck,
+) -> Option<String> {
+    let on = |r: &SnapshotRecord| match clock {
+        crate::engine::Clock::Time => r.time,
+        _ => r.collisions_per_particle,
+    };
+    let cpp: Vec<f64> = records.iter().map(|r| r.collisions_per_particle).collect();
+    let trace: Vec<f64> = records.iter().map(|r| r.translational_energy).collect();
+    let plateau = steady::detect(&cpp, &trace, settings.min_steady_snapshots);
+    if !plateau.steady {
+        return None;
+    }
+    let in_window = &records[plateau.start..];
+    let span = on(in_window.last()?) - on(in_window.first()?);
+    if span < window {
+        return None;
+    }
+    let confirmed = steady::confirm_by_balances(
+        plateau,
+        &[
+            ("momentum", balance::momentum_balance(in_window)),
+            ("energy", balance::energy_balance(in_window)),
+        ],
+    );
+    if !confirmed.steady {
+        return None;
+    }
+    while check.verdicts.len() < records.len() {
+        let next = &records[check.verdicts.len()];
+        check.verdicts.push(verdict(next));
+    }
+    let window_verdicts: Vec<&(FamilyPowers, classify::Assessment)> =
+        check.verdicts[confirmed.start..].iter().flatten().collect();
+    let last = records.last()?;
+    let n = last.grid.map(|k| k as usize);
+    let mut avg = FamilyPowers::zero(n);
+    for (f, _) in &window_verdicts {
+        avg.add_scaled(f, 1.0 / window_verdicts.len() as f64);
+    }
+    let average = assess(
+        &avg,
+        n,
+        noise_per_mode(last.particles as usize, last.grid_volume),
+    );
+    let verdicts: Vec<classify::Assessment> =
+        window_verdicts.iter().map(|(_, a)| a.clone()).collect();
+    let stats = labels::statistics(&verdicts, &average);
+    (stats.probability >= labels::CLEAR_MAJORITY).then(|| {
+        format!(
+            "steady over {:.6} .. {:.6} ({} snapshots, {} {}), label {} in {:.0} % of them",
+            on(&in_window[0]),
+            on(in_window.last().expect("non-empty")),
+            in_window.len(),
+            span,
+            clock.key(),
+            stats.candidate,
+            100.0 * stats.probability
+        )
+    })
 }
 
 /// True when a record carries a usable grid (all plane counts present).

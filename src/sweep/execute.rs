@@ -10,6 +10,7 @@
 
 use super::grid::PlannedJob;
 use super::store::{self, Claim, JobCheckpoint, JobResult};
+use crate::analysis::StopCheck;
 use crate::engine::{self, Engine, StopAt};
 use std::time::Instant;
 
@@ -82,7 +83,17 @@ pub fn run_job(
         job.params.engine
     );
     let events_at_start = engine.progress().events;
+    let mut check = StopCheck::default();
+    let mut stop_reason = String::new();
     while k < total {
+        // run until steady: asked after every snapshot (also right after a resume, so that a
+        // job killed after its deciding snapshot stops where the uninterrupted one did)
+        if let Some(rule) = &run.until_steady
+            && let Some(reason) = analyser.steady_over(&records, clock, rule.window, &mut check)
+        {
+            stop_reason = format!("stopped at snapshot {k}: {reason}");
+            break;
+        }
         if stop_after.is_some_and(|s| k >= s) {
             return Ok(JobEnd::Stopped);
         }
@@ -108,6 +119,14 @@ pub fn run_job(
             events_per_second: (snap.progress.events - events_at_start) as f64 / secs,
         });
     }
+    if run.until_steady.is_some() && stop_reason.is_empty() {
+        stop_reason = format!(
+            "reached the cap of {} {} before a steady window of {} with a stable label",
+            run.length(),
+            clock.key(),
+            run.until_steady.as_ref().map_or(0.0, |u| u.window)
+        );
+    }
     let snap = engine.snapshot();
     let analysis = analyser.analyse(&records);
     let wall_seconds = wall_before + started.elapsed().as_secs_f64();
@@ -122,6 +141,7 @@ pub fn run_job(
         counters: snap.counters,
         wall_seconds,
         events_per_second: snap.progress.events as f64 / wall_seconds.max(1e-9),
+        stop_reason,
         analysis,
     })))
 }

@@ -8,7 +8,8 @@
 //! [`InId::Always`] with their resolved value (even at the default), those marked
 //! [`InId::AwayFromDefault`] only where they differ from the default, and never those marked
 //! [`InId::Never`] (derived ones, like phi from N); `run` holds the run length on its clock
-//! (`collisions_per_particle`, `steps` or `time`) and `snapshot_interval`; `analysis` holds
+//! (`collisions_per_particle`, `steps` or `time`), `snapshot_interval` and, only when set,
+//! `until_steady` (`{"window":W}`); `analysis` holds
 //! only the analysis settings that differ from their defaults. The id is the first 16 hex
 //! digits of SHA-256 of that text. So adding a new optional parameter (declared with
 //! `AwayFromDefault`) or a new analysis setting leaves every existing id unchanged.
@@ -42,6 +43,20 @@ pub struct RunSettings {
     /// progress; it does not change results, so it is not part of the job id)
     #[serde(default = "default_checkpoint_every")]
     pub checkpoint_every: u32,
+    /// stop before the run length (then a cap) once the run is steady: see [`UntilSteady`]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub until_steady: Option<UntilSteady>,
+}
+
+/// Run until steady: after every snapshot the job asks its analysis, from the records alone,
+/// whether the run is steady (the documented detector, balances included) over a window of at
+/// least `window` (in the run's clock) with a label that holds a clear majority over it; if so
+/// it stops there. The run length is the cap.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UntilSteady {
+    /// the shortest steady window that ends a run, in the run's clock
+    pub window: f64,
 }
 
 fn default_checkpoint_every() -> u32 {
@@ -149,6 +164,19 @@ impl RunSettings {
                 "snapshot_interval",
                 format!(
                     "{interval} is out of range: allowed 0 < snapshot_interval <= {} ({length}), at most 1e6 snapshots",
+                    clock.key()
+                ),
+            ));
+        }
+        if let Some(u) = &self.until_steady
+            && !(u.window.is_finite() && u.window > 0.0 && u.window <= length)
+        {
+            return Err((
+                "until_steady",
+                format!(
+                    "window = {} is out of range: allowed 0 < window <= {} ({length}), in {}",
+                    u.window,
+                    clock.key(),
                     clock.key()
                 ),
             ));
@@ -279,6 +307,12 @@ pub fn canonical_with(table: &[ParamDef], job: &JobParams) -> String {
         "snapshot_interval".to_string(),
         number(job.run.snapshot_interval),
     );
+    if let Some(u) = &job.run.until_steady {
+        let rule: serde_json::Map<String, Value> = [("window".to_string(), number(u.window))]
+            .into_iter()
+            .collect();
+        run.insert("until_steady".to_string(), Value::Object(rule));
+    }
     let mut top = BTreeMap::new();
     top.insert(
         "analysis".to_string(),

@@ -370,7 +370,7 @@ pub fn engine_of(spec: &SweepSpec) -> Option<&'static EngineDef> {
 /// Apply `--set key=value[,value...]` overrides: one value replaces a fixed value (and removes
 /// the axis or link that set it, and its alternatives, e.g. phi for N); several values make
 /// (or replace) an axis. `seeds=1,2,3`, a run length (`collisions_per_particle=X`, `steps=X`,
-/// `time=X`) and `snapshot_interval=X` set the run. Extra points keep their own explicit
+/// `time=X`), `snapshot_interval=X` and `until_steady=WINDOW` (or `off`) set the run. Extra points keep their own explicit
 /// values.
 pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(), SpecError> {
     for arg in overrides {
@@ -412,6 +412,16 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
                 })?);
             }
             spec.seeds = seeds;
+        } else if key == "until_steady" {
+            if values.len() != 1 {
+                return Err(bad(Some(key), "takes one window length, or `off`".into()));
+            }
+            spec.run.until_steady = match values[0] {
+                "off" | "none" => None,
+                v => Some(super::job::UntilSteady {
+                    window: parse_f64(v)?,
+                }),
+            };
         } else if key == "snapshot_interval" || Clock::from_key(key).is_some() {
             if values.len() != 1 {
                 return Err(bad(Some(key), "takes exactly one value".into()));
@@ -429,7 +439,7 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
                 return Err(bad(
                     Some(key),
                     format!(
-                        "{}{suggestion}allowed: {}, seeds, {}, snapshot_interval",
+                        "{}{suggestion}allowed: {}, seeds, {}, snapshot_interval, until_steady",
                         unknown_key_message(key, engine),
                         engine.param_names(),
                         engine.clock_names()

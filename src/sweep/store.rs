@@ -297,6 +297,9 @@ pub struct JobResult {
     pub wall_seconds: f64,
     /// events per wall-clock second
     pub events_per_second: f64,
+    /// for runs until steady: where and why the job stopped, or that it reached its cap
+    #[serde(default)]
+    pub stop_reason: String,
     /// the analysis
     pub analysis: Analysis,
 }

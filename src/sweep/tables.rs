@@ -293,6 +293,12 @@ fn jobs_frame(engine: &EngineDef, jobs: &[GatheredJob]) -> anyhow::Result<DataFr
         });
     }
     cols.push(Column::new("snapshots".into(), r(&|x| x.snapshots as u64)));
+    cols.push(Column::new(
+        "stop_reason".into(),
+        jobs.iter()
+            .map(|j| j.result.as_ref().map(|x| x.stop_reason.clone()))
+            .collect::<Vec<_>>(),
+    ));
     cols.push(Column::new("wall_seconds".into(), rf(&|x| x.wall_seconds)));
     cols.push(Column::new(
         "events_per_second".into(),
