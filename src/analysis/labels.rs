@@ -63,7 +63,7 @@ pub fn statistics(snapshots: &[Assessment], average: &Assessment) -> LabelStatis
         }
     }
     // stable sort: equal counts keep first-seen order
-    counts.sort_by(|a, b| b.1.cmp(&a.1));
+    counts.sort_by_key(|c| std::cmp::Reverse(c.1));
     let probabilities: Vec<(String, f64)> = counts
         .into_iter()
         .map(|(k, c)| (k, c as f64 / m.max(1) as f64))

@@ -645,8 +645,9 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
     summary.window_tc_elastic_fraction = tc_count;
     summary.window_suppressed_dissipation = tc_energy;
     let unrecorded = in_window.iter().any(|r| r.suppressed_dissipation.is_nan());
-    summary.collapse_guard_valid = !unrecorded && !(tc_energy > balance::COLLAPSE_GUARD_LIMIT);
-    if tc_energy > balance::COLLAPSE_GUARD_LIMIT {
+    let beyond = tc_energy > balance::COLLAPSE_GUARD_LIMIT;
+    summary.collapse_guard_valid = !unrecorded && !beyond;
+    if beyond {
         notes.push(format!(
             "collapse guard beyond its validity: the TC model suppressed {:.1} % of the dissipation of constant e over the window (limit {:.0} %); lower tc",
             100.0 * tc_energy,
