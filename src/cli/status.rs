@@ -35,13 +35,30 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
         let line = match &j.state {
             JobState::Done => {
                 let r = j.result.as_ref().expect("done jobs have results");
+                let summary = r.analysis.summary();
+                let (label, humps) = r.analysis.label();
+                let p = summary.get("label_probability").and_then(|v| v.as_f64());
+                let guard = summary
+                    .get("collapse_guard_valid")
+                    .and_then(|v| v.as_bool())
+                    .unwrap_or(true);
                 format!(
-                    "done     {:.0}/{target:.0} {unit}  {} ({} humps)  {:.1} s  {:.2e} events/s",
+                    "done     {:.0}/{target:.0} {unit}  {}{}{}  {:.1} s  {:.2e} events/s{}",
                     r.clock(run.clock()),
-                    r.analysis.label().0,
-                    r.analysis.label().1,
+                    crate::analysis::labels::label_key(label, humps),
+                    p.map_or(String::new(), |p| format!(" (p = {p:.2})")),
+                    if guard {
+                        ""
+                    } else {
+                        "  COLLAPSE GUARD BEYOND VALIDITY"
+                    },
                     r.wall_seconds,
-                    r.events_per_second
+                    r.events_per_second,
+                    if r.stop_reason.is_empty() {
+                        String::new()
+                    } else {
+                        format!("  [{}]", r.stop_reason)
+                    }
                 )
             }
             JobState::Partial(c) => {

@@ -10,50 +10,147 @@ use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// One cell of the diagram: the labels (with humps) of the done jobs at that point, one per
-/// seed, and how many jobs are not done.
+/// One done job in a cell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CellJob {
+    /// its label and humps as the job's analysis gave them
+    pub label: String,
+    pub humps: u32,
+    /// (label with humps, fraction of its window's snapshots)
+    pub probabilities: Vec<(String, f64)>,
+    /// snapshots of its window (the weight of its probabilities when replicas merge)
+    pub weight: f64,
+    pub steady: bool,
+    /// the collapse guard stayed within its validity limit
+    pub guard_valid: bool,
+}
+
+/// One cell of the diagram: the done jobs at that point (one per seed) and how many jobs are
+/// not done.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Cell {
-    pub labels: Vec<(String, u32)>,
+    pub jobs: Vec<CellJob>,
     pub not_done: usize,
 }
 
+/// What a cell shows: the label (the merged replicas' modal label when it holds a clear
+/// majority, else "mixed"; "not-steady" when no replica is steady), its humps, its
+/// probability, and whether any replica's collapse guard went beyond its validity.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CellVerdict {
+    pub label: String,
+    pub humps: u32,
+    pub probability: f64,
+    /// the merged distribution over the steady replicas, most frequent first
+    pub probabilities: Vec<(String, f64)>,
+    pub guard_flagged: bool,
+}
+
+/// "label p; label p" (the jobs table's `label_probabilities`) back into pairs.
+pub fn parse_probabilities(text: &str) -> Vec<(String, f64)> {
+    text.split("; ")
+        .filter_map(|part| {
+            let (label, p) = part.rsplit_once(' ')?;
+            Some((label.to_string(), p.parse().ok()?))
+        })
+        .collect()
+}
+
+/// A label key `s-wave(2)` split into its label and humps.
+fn split_key(key: &str) -> (String, u32) {
+    match key.strip_suffix(')').and_then(|k| k.rsplit_once('(')) {
+        Some((label, humps)) if humps.parse::<u32>().is_ok() => {
+            (label.to_string(), humps.parse().unwrap_or(0))
+        }
+        _ => (key.to_string(), 0),
+    }
+}
+
 impl Cell {
-    /// The most frequent label (ties: the first in order), with the humps of its first job.
-    pub fn main_label(&self) -> Option<(String, u32)> {
-        let mut counts: Vec<(&(String, u32), usize)> = Vec::new();
-        for l in &self.labels {
-            match counts.iter_mut().find(|(k, _)| k.0 == l.0) {
-                Some(c) => c.1 += 1,
-                None => counts.push((l, 1)),
+    /// The replicas merged into one probability table (weighted by their window snapshots),
+    /// and the cell's verdict; None for a cell without done jobs.
+    pub fn verdict(&self) -> Option<CellVerdict> {
+        if self.jobs.is_empty() {
+            return None;
+        }
+        let guard_flagged = self.jobs.iter().any(|j| !j.guard_valid);
+        let steady: Vec<&CellJob> = self.jobs.iter().filter(|j| j.steady).collect();
+        if steady.is_empty() {
+            return Some(CellVerdict {
+                label: "not-steady".into(),
+                humps: 0,
+                probability: f64::NAN,
+                probabilities: Vec::new(),
+                guard_flagged,
+            });
+        }
+        let total: f64 = steady.iter().map(|j| j.weight.max(1.0)).sum();
+        let mut merged: Vec<(String, f64)> = Vec::new();
+        for j in &steady {
+            // jobs without probabilities (older results) count with their label
+            let own = if j.probabilities.is_empty() {
+                vec![(crate::analysis::labels::label_key(&j.label, j.humps), 1.0)]
+            } else {
+                j.probabilities.clone()
+            };
+            for (key, p) in own {
+                let w = p * j.weight.max(1.0) / total;
+                match merged.iter_mut().find(|(k, _)| *k == key) {
+                    Some(m) => m.1 += w,
+                    None => merged.push((key, w)),
+                }
             }
         }
-        counts
-            .iter()
-            .max_by(|a, b| a.1.cmp(&b.1).then(std::cmp::Ordering::Greater))
-            .map(|(l, _)| (*l).clone())
+        merged.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let (top, p) = merged[0].clone();
+        let (label, humps) = if p >= crate::analysis::labels::CLEAR_MAJORITY {
+            split_key(&top)
+        } else {
+            ("mixed".to_string(), 0)
+        };
+        Some(CellVerdict {
+            label,
+            humps,
+            probability: p,
+            probabilities: merged,
+            guard_flagged,
+        })
     }
 
-    /// Text of the cell: `label` (`label(humps)` for humps > 0); several labels joined by `/`.
+    /// Text of the cell: `label[p]` (`label(humps)[p]`), `mixed[a/b]`, `not-steady`, with
+    /// `!tc` when a collapse guard went beyond its validity, and `[n not done]`.
     pub fn text(&self) -> String {
         let mut parts: Vec<String> = Vec::new();
-        for (label, humps) in &self.labels {
-            let t = if *humps > 0 {
-                format!("{label}({humps})")
-            } else {
-                label.clone()
+        if let Some(v) = self.verdict() {
+            let mut t = match v.label.as_str() {
+                "not-steady" => v.label.clone(),
+                "mixed" => format!(
+                    "mixed[{}]",
+                    v.probabilities
+                        .iter()
+                        .take(2)
+                        .map(|(k, p)| format!("{k}:{p:.2}"))
+                        .collect::<Vec<_>>()
+                        .join("/")
+                ),
+                _ => format!(
+                    "{}[{:.2}]",
+                    crate::analysis::labels::label_key(&v.label, v.humps),
+                    v.probability
+                ),
             };
-            if !parts.contains(&t) {
-                parts.push(t);
+            if v.guard_flagged {
+                t.push_str("!tc");
             }
+            parts.push(t);
         }
         if self.not_done > 0 {
-            parts.push(format!("[{} not done]", self.not_done));
+            parts.push(format!("[{}-not-done]", self.not_done));
         }
         if parts.is_empty() {
             "-".into()
         } else {
-            parts.join("/")
+            parts.join("+")
         }
     }
 }
@@ -109,6 +206,28 @@ fn distinct(jobs: &[GatheredJob], name: &str) -> Vec<ParamValue> {
     vals
 }
 
+/// A done job as a cell sees it.
+fn cell_job(analysis: &crate::analysis::Analysis) -> CellJob {
+    let (label, humps) = analysis.label();
+    let summary = analysis.summary();
+    let text = |k: &str| summary.get(k).and_then(|v| v.as_str()).unwrap_or("");
+    let number = |k: &str| summary.get(k).and_then(|v| v.as_f64());
+    CellJob {
+        label: label.to_string(),
+        humps,
+        probabilities: parse_probabilities(text("label_probabilities")),
+        weight: number("steady_snapshots").unwrap_or(1.0),
+        steady: summary
+            .get("steady")
+            .and_then(|v| v.as_bool())
+            .unwrap_or(label != "not-steady"),
+        guard_valid: summary
+            .get("collapse_guard_valid")
+            .and_then(|v| v.as_bool())
+            .unwrap_or(true),
+    }
+}
+
 impl PhaseDiagram {
     /// Place the jobs. `x` and `y` must be parameters of the engine of the jobs.
     pub fn build(
@@ -145,10 +264,7 @@ impl PhaseDiagram {
             let yi = y.map_or(0, |y| index(&ys, j, y));
             let cell = cells.entry((xi, yi)).or_default();
             match &j.result {
-                Some(r) => {
-                    let (label, humps) = r.analysis.label();
-                    cell.labels.push((label.to_string(), humps))
-                }
+                Some(r) => cell.jobs.push(cell_job(&r.analysis)),
                 None => cell.not_done += 1,
             }
         }
@@ -296,29 +412,46 @@ impl PhaseDiagram {
             ))?;
         }
         let mut legend: Vec<String> = Vec::new();
+        let mut flagged = false;
         for (&(xi, yi), cell) in &self.cells {
             let (x, y) = (px(xi), py(yi));
-            match cell.main_label() {
-                Some((label, humps)) => {
-                    draw_marker(root, &label, (x, y), 11)?;
-                    if humps > 0 {
+            match cell.verdict() {
+                Some(v) => {
+                    draw_marker(root, &v.label, (x, y), 11)?;
+                    if v.humps > 0 {
                         root.draw(&Text::new(
-                            format!("{humps}"),
+                            format!("{}", v.humps),
                             (x + 14, y - 20),
                             font.clone(),
                         ))?;
                     }
-                    if cell.labels.iter().any(|l| l.0 != label) {
-                        root.draw(&Text::new("*", (x - 20, y - 20), font.clone()))?;
+                    if v.probability.is_finite() {
+                        // the label's probability, under the marker
+                        root.draw(&Text::new(
+                            format!("{:.2}", v.probability),
+                            (x - 14, y + 14),
+                            small.clone(),
+                        ))?;
                     }
-                    if !legend.contains(&label) {
-                        legend.push(label);
+                    if v.guard_flagged {
+                        root.draw(&Circle::new(
+                            (x, y),
+                            16,
+                            RGBColor(214, 39, 40).stroke_width(2),
+                        ))?;
+                        flagged = true;
+                    }
+                    if !legend.contains(&v.label) {
+                        legend.push(v.label);
                     }
                 }
                 None => {
                     root.draw(&Circle::new((x, y), 4, RGBColor(180, 180, 180).filled()))?;
                 }
             }
+        }
+        if flagged {
+            legend.push("collapse guard beyond validity".into());
         }
         legend.sort();
         let lx = left + plot_w + 20;
@@ -376,6 +509,7 @@ fn draw_marker<DB: DrawingBackend>(
             ))
         }
         "not-steady" => root.draw(&Cross::new((x, y), r, grey.stroke_width(2))),
+        "mixed" => root.draw(&Circle::new((x, y), r, orange.stroke_width(3))),
         _ => root.draw(&Circle::new((x, y), r, purple.stroke_width(2))),
     }
 }
@@ -427,5 +561,72 @@ pub fn fmt_value(v: &ParamValue) -> String {
     match v {
         ParamValue::Number(x) => format!("{x}"),
         ParamValue::Text(s) => s.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn job(probabilities: &str, weight: f64, steady: bool, guard_valid: bool) -> CellJob {
+        let probabilities = parse_probabilities(probabilities);
+        let (label, humps) = split_key(&probabilities[0].0);
+        CellJob {
+            label,
+            humps,
+            probabilities,
+            weight,
+            steady,
+            guard_valid,
+        }
+    }
+
+    #[test]
+    fn replicas_merge_into_one_probability_table() {
+        let agree = Cell {
+            jobs: vec![
+                job("slug 1.00", 10.0, true, true),
+                job("slug 0.70; s-wave+slug(1) 0.30", 10.0, true, true),
+            ],
+            not_done: 0,
+        };
+        let v = agree.verdict().unwrap();
+        assert_eq!((v.label.as_str(), v.humps), ("slug", 0));
+        assert!((v.probability - 0.85).abs() < 1e-12);
+        assert_eq!(agree.text(), "slug[0.85]");
+
+        // 0.6 / 0.4 after weighting: no clear majority
+        let split = Cell {
+            jobs: vec![
+                job("slug 0.80; wavy-slug 0.20", 10.0, true, true),
+                job("wavy-slug 0.60; slug 0.40", 10.0, true, true),
+            ],
+            not_done: 1,
+        };
+        let v = split.verdict().unwrap();
+        assert_eq!(v.label, "mixed");
+        assert_eq!(split.text(), "mixed[slug:0.60/wavy-slug:0.40]+[1-not-done]");
+
+        // weights: a long window counts more; a not-steady replica does not count, a flagged
+        // collapse guard is shown
+        let weighted = Cell {
+            jobs: vec![
+                job("s-wave(2) 1.00", 30.0, true, false),
+                job("plug 1.00", 10.0, true, true),
+                job("slug 1.00", 50.0, false, true),
+            ],
+            not_done: 0,
+        };
+        let v = weighted.verdict().unwrap();
+        assert_eq!((v.label.as_str(), v.humps), ("s-wave", 2));
+        assert!((v.probability - 0.75).abs() < 1e-12);
+        assert!(v.guard_flagged);
+        assert_eq!(weighted.text(), "s-wave(2)[0.75]!tc");
+
+        let unsteady = Cell {
+            jobs: vec![job("slug 1.00", 10.0, false, true)],
+            not_done: 0,
+        };
+        assert_eq!(unsteady.text(), "not-steady");
     }
 }
