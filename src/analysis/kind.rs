@@ -243,13 +243,6 @@ impl Analyser {
 }
 
 impl Record {
-    /// The reading of the run's main clock at the snapshot (collisions per particle or steps).
-    pub fn clock(&self) -> f64 {
-        match self {
-            Record::Structure(r) => r.collisions_per_particle,
-        }
-    }
-
     /// Simulated time at the snapshot.
     pub fn time(&self) -> f64 {
         match self {

@@ -49,7 +49,9 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
         let p = &j.job.params;
         total_work += p.estimated_work();
         let state = match &j.state {
-            store::JobState::Partial(c) => format!("{c:.0}{}", p.run.clock().unit()),
+            store::JobState::Partial(c) => {
+                format!("{:.0}{}", c.on(p.run.clock()), p.run.clock().unit())
+            }
             s => s.name().to_string(),
         };
         let mut line = format!(

@@ -62,11 +62,12 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                 )
             }
             JobState::Partial(c) => {
+                let c = c.on(run.clock());
                 format!("partial  {c:.0}/{target:.0} {unit} (resumes from its checkpoint)")
             }
             JobState::Running => {
                 let dir = dirs.job_dir(&j.job.id);
-                match store::checkpoint_progress(&dir) {
+                match store::checkpoint_progress(&dir).map(|p| p.on(run.clock())) {
                     Some(c) => format!("running  {c:.0}/{target:.0} {unit} at the last checkpoint"),
                     None => "running  (claimed by a live runner)".to_string(),
                 }

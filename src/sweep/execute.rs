@@ -70,6 +70,7 @@ pub fn run_job(
                         engine.checkpoint(),
                         records.clone(),
                         started.elapsed().as_secs_f64(),
+                        snap.progress,
                     ),
                 )?;
                 store::log(dir, "start")?;
@@ -109,6 +110,7 @@ pub fn run_job(
                     engine.checkpoint(),
                     records.clone(),
                     wall_before + started.elapsed().as_secs_f64(),
+                    snap.progress,
                 ),
             )?;
         }

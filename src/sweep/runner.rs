@@ -222,7 +222,9 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         // work per unit of the run's clock (the estimate is linear in it)
                         let work_per_clock = job.params.estimated_work() / job.params.run.length();
                         let unit = job.params.run.clock().unit();
-                        let mut last = store::checkpoint_progress(&dir).unwrap_or(0.0);
+                        let clock = job.params.run.clock();
+                        let mut last =
+                            store::checkpoint_progress(&dir).map_or(0.0, |p| p.on(clock));
                         overall.inc((last * work_per_clock) as u64);
                         let mut on_progress = |p: execute::JobProgress| {
                             bar.set_position((1000.0 * p.clock / p.target) as u64);

@@ -32,8 +32,8 @@ pub const LOG_FILE: &str = "log.txt";
 pub enum JobState {
     /// nothing run yet
     Pending,
-    /// checkpointed at this many collisions per particle, not running
-    Partial(f64),
+    /// checkpointed at this point of progress, not running
+    Partial(crate::engine::Progress),
     /// claimed by a live runner (its lock is held)
     Running,
     /// finished: result.ron exists
@@ -102,7 +102,7 @@ fn state_unlocked(dir: &Path) -> JobState {
         return JobState::Failed(err.trim().to_string());
     }
     match checkpoint_progress(dir) {
-        Some(cpp) => JobState::Partial(cpp),
+        Some(progress) => JobState::Partial(progress),
         None => JobState::Pending,
     }
 }
@@ -198,6 +198,8 @@ pub struct JobCheckpoint {
     pub records: Vec<Record>,
     /// wall-clock seconds spent up to this checkpoint (informational)
     pub wall_seconds: f64,
+    /// the engine's clocks at snapshot k
+    pub progress: crate::engine::Progress,
 }
 
 /// Format 1 (before engines were plug-ins): the records were the structure analysis's, in
@@ -261,13 +263,20 @@ impl From<SnapshotRecordV1> for SnapshotRecord {
 
 impl JobCheckpoint {
     /// A checkpoint in the current format.
-    pub fn new(snapshot: u32, engine: Vec<u8>, records: Vec<Record>, wall_seconds: f64) -> Self {
+    pub fn new(
+        snapshot: u32,
+        engine: Vec<u8>,
+        records: Vec<Record>,
+        wall_seconds: f64,
+        progress: crate::engine::Progress,
+    ) -> Self {
         JobCheckpoint {
             format: CHECKPOINT_FORMAT,
             snapshot,
             engine,
             records,
             wall_seconds,
+            progress,
         }
     }
 }
@@ -319,12 +328,9 @@ fn edmd() -> String {
     "edmd".into()
 }
 
-/// Clock reading (collisions per particle or steps) of a job's last checkpoint, if it has one.
-pub fn checkpoint_progress(dir: &Path) -> Option<f64> {
-    read_checkpoint(dir)
-        .ok()
-        .flatten()
-        .and_then(|c| c.records.last().map(Record::clock))
+/// The engine's clocks at a job's last checkpoint, if it has one.
+pub fn checkpoint_progress(dir: &Path) -> Option<crate::engine::Progress> {
+    read_checkpoint(dir).ok().flatten().map(|c| c.progress)
 }
 
 /// Read a job's checkpoint (None when there is none).
@@ -346,10 +352,20 @@ pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
     let cp = match format {
         1 => {
             let v1: JobCheckpointV1 = postcard::from_bytes(body)?;
+            let progress =
+                v1.records
+                    .last()
+                    .map_or_else(Default::default, |r| crate::engine::Progress {
+                        time: r.time,
+                        collisions_per_particle: r.collisions_per_particle,
+                        steps: 0,
+                        events: 0,
+                    });
             JobCheckpoint {
                 format: v1.format,
                 snapshot: v1.snapshot,
                 engine: v1.engine,
+                progress,
                 records: v1
                     .records
                     .into_iter()
