@@ -11,10 +11,12 @@
 //! - [`analysis`]: fields, spectra, profiles, steady-state detection, classification.
 //! - [`sweep`]: sweep files, grids, job ids, the resumable queue, tables, phase diagrams.
 //! - [`slurm`]: job arrays on a Slurm cluster running the same job code; status via squeue.
+//! - [`provenance`]: which code made a result (version, commit, engine and analysis versions).
 //! - [`cli`]: the command-line front end.
 
 pub mod analysis;
 pub mod cli;
 pub mod engine;
+pub mod provenance;
 pub mod slurm;
 pub mod sweep;

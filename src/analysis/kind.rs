@@ -38,6 +38,15 @@ pub enum Analysis {
 }
 
 impl AnalysisKind {
+    /// Version of the analysis: bump it when a change alters results of the same records
+    /// (results of older versions are flagged as outdated). Structure: 1 until the label
+    /// probabilities and the balances, 2 since.
+    pub fn version(self) -> u32 {
+        match self {
+            AnalysisKind::Structure => 2,
+        }
+    }
+
     /// Parse and check the settings of a sweep's `analysis` section (missing keys take their
     /// defaults; an empty or null section is all defaults).
     pub fn analyser(self, given: &Value) -> Result<Analyser, String> {

@@ -269,6 +269,9 @@ pub struct EngineDef {
     pub name: &'static str,
     /// one line: what it simulates and after whom
     pub title: &'static str,
+    /// physics version: bump it when a change of the engine changes trajectories (results of
+    /// older versions are then flagged as outdated; their ids stay)
+    pub version: u32,
     /// the parameters, in expansion order (the last swept one varies fastest)
     pub params: &'static [ParamDef],
     /// groups of parameters of which at most one may be given (each derives the others, like

@@ -12,6 +12,7 @@ use super::grid::PlannedJob;
 use super::store::{self, Claim, JobCheckpoint, JobResult};
 use crate::analysis::StopCheck;
 use crate::engine::{self, Engine, StopAt};
+use crate::provenance::Provenance;
 use std::time::Instant;
 
 /// How a call to [`run_job`] ended.
@@ -49,7 +50,15 @@ pub fn run_job(
     let (mut engine, mut records, mut k, wall_before): (Box<dyn Engine>, _, u32, f64) =
         match store::read_checkpoint(dir)? {
             Some(cp) => {
-                store::log(dir, &format!("resume at snapshot {}", cp.snapshot))?;
+                store::log(
+                    dir,
+                    &format!(
+                        "resume at snapshot {} [{} on {}]",
+                        cp.snapshot,
+                        crate::provenance::Provenance::build(),
+                        crate::provenance::host()
+                    ),
+                )?;
                 (
                     engine::restore(&cp.engine)?,
                     cp.records,
@@ -73,7 +82,14 @@ pub fn run_job(
                         snap.progress,
                     ),
                 )?;
-                store::log(dir, "start")?;
+                store::log(
+                    dir,
+                    &format!(
+                        "start [{} on {}]",
+                        crate::provenance::Provenance::build(),
+                        crate::provenance::host()
+                    ),
+                )?;
                 (engine, records, 0, 0.0)
             }
         };
@@ -132,6 +148,10 @@ pub fn run_job(
     let snap = engine.snapshot();
     let analysis = analyser.analyse(&records);
     let wall_seconds = wall_before + started.elapsed().as_secs_f64();
+    let def = job.params.def();
+    let mut provenance = Provenance::here(def.version, def.analysis.version());
+    provenance.started = store::first_start(dir).unwrap_or_default();
+    provenance.finished = crate::provenance::now();
     Ok(JobEnd::Finished(Box::new(JobResult {
         id: job.id.0.clone(),
         engine: job.params.engine.clone(),
@@ -144,6 +164,7 @@ pub fn run_job(
         wall_seconds,
         events_per_second: snap.progress.events as f64 / wall_seconds.max(1e-9),
         stop_reason,
+        provenance,
         analysis,
     })))
 }

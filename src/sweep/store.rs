@@ -166,14 +166,34 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
     }
 }
 
-/// Append one line to the job's log (and flush it to disk).
-pub fn log(dir: &Path, line: &str) -> std::io::Result<()> {
+/// Append one line to the job's log, `<UTC time> <event>`, and flush it to disk.
+pub fn log(dir: &Path, event: &str) -> std::io::Result<()> {
     let mut f = OpenOptions::new()
         .create(true)
         .append(true)
         .open(dir.join(LOG_FILE))?;
-    writeln!(f, "{line}")?;
+    writeln!(f, "{} {event}", crate::provenance::now())?;
     f.sync_data()
+}
+
+/// The events of a log's text, without their times (lines written before logs had times are
+/// taken whole).
+pub fn log_events(text: &str) -> Vec<&str> {
+    text.lines()
+        .map(|l| match l.split_once(' ') {
+            Some((time, event)) if time.len() == 20 && time.ends_with('Z') => event,
+            _ => l,
+        })
+        .collect()
+}
+
+/// When the job first started (the time of its log's first `start`), if the log says.
+pub fn first_start(dir: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(dir.join(LOG_FILE)).ok()?;
+    text.lines()
+        .find(|l| l.split(' ').nth(1) == Some("start"))
+        .and_then(|l| l.split(' ').next())
+        .map(str::to_string)
 }
 
 /// Record a failure (atomically).
@@ -309,6 +329,9 @@ pub struct JobResult {
     /// for runs until steady: where and why the job stopped, or that it reached its cap
     #[serde(default)]
     pub stop_reason: String,
+    /// which code made it, where and when (results of older builds: empty, versions 0)
+    #[serde(default)]
+    pub provenance: crate::provenance::Provenance,
     /// the analysis
     pub analysis: Analysis,
 }

@@ -14,6 +14,7 @@ use crate::engine::{
 pub static DECLARATION: EngineDef = EngineDef {
     name: "edmd",
     title: "event-driven rough inelastic hard spheres between flat rough walls (Malik 2008, ch. 2)",
+    version: 1,
     params: PARAMS,
     alternatives: &[&["volume_fraction", "particles"]],
     clocks: &[Clock::CollisionsPerParticle, Clock::Time],
