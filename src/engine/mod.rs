@@ -6,6 +6,7 @@
 
 pub mod dsmc;
 pub mod edmd;
+pub mod lga;
 
 use serde::{Deserialize, Serialize};
 
