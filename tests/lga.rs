@@ -145,3 +145,67 @@ fn kernel_equals_reference_step_by_step() {
         }
     }
 }
+
+#[test]
+#[ignore]
+fn scratch_explore() {
+    let args: Vec<f64> = std::env::var("LGA_ARGS")
+        .unwrap_or("220 11 1.0 0.5 0.5 0.5 1 100000".into())
+        .split_whitespace()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let p = params(
+        args[0] as usize,
+        args[1] as usize,
+        args[2],
+        args[3],
+        args[4],
+        args[5],
+        args[6] as u64,
+    );
+    let steps = args[7] as u64;
+    let mut k = LgaEngine::new(p.clone()).unwrap();
+    if args.get(9).is_some() {
+        let mut r = LgaReference::new(p.clone()).unwrap();
+        for t in 1..=300 {
+            k.advance_to(t);
+            r.advance_to(t);
+            assert_eq!(k.occupation(), r.occupation(), "step {t}");
+        }
+        println!("kernel == reference (300 steps)");
+    }
+    let settings = granflow::analysis::lattice::LatticeSettings::default();
+    let mut recs = Vec::new();
+    let every = 10;
+    let mut t = 0;
+    while t < steps {
+        t += every;
+        k.advance_to(t);
+        recs.push(granflow::analysis::lattice::record(&k, &settings));
+    }
+    let an = granflow::analysis::lattice::analyse(&recs, &settings);
+    println!("{:#?}", an.summary);
+    if let Ok(path) = std::env::var("LGA_PNG") {
+        granflow::analysis::lattice::plot_spacetime(&an, std::path::Path::new(&path)).unwrap();
+    }
+    if let Ok(path) = std::env::var("LGA_SPEC") {
+        let mut txt = String::new();
+        for f in &an.spectrum {
+            txt.push_str(&format!("{} {} {}\n", f.frequency, f.power, f.fitted as u8));
+        }
+        std::fs::write(path, txt).unwrap();
+    }
+
+    let n0 = k.particle_count();
+    let t0 = std::time::Instant::now();
+    k.advance_to(steps);
+    let dt = t0.elapsed().as_secs_f64();
+    println!(
+        "sites/s {:.3e}  N {} -> {}  momentum {:?} counters {:?}",
+        (p.length * p.width) as f64 * steps as f64 / dt,
+        n0,
+        k.particle_count(),
+        k.momentum(),
+        k.counters()
+    );
+}

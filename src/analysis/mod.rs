@@ -13,6 +13,7 @@
 
 pub mod classify;
 pub mod fields;
+pub mod lattice;
 pub mod profiles;
 mod report;
 pub mod snapshot_io;
