@@ -534,7 +534,7 @@ impl LgaEngine {
         // plane k of column y unshifted
         let same = |y: usize, k: usize, w: usize| tmp[y * nw + w][k];
         for y in 0..wd {
-            let even = |y: usize| y % 2 == 0;
+            let even = |y: usize| y.is_multiple_of(2);
             for w in 0..nw {
                 let here = &tmp[y * nw + w];
                 let mut out = [0u64; PLANES];

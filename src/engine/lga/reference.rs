@@ -272,10 +272,9 @@ impl LgaReference {
                         next[s] |= vel(k2);
                         self.counters.wall_collisions += 1;
                         self.counters.wall_bounce_backs += u64::from(bounce);
-                        for a in 0..2 {
-                            self.wall_impulse[a] +=
-                                MOMENTUM[k2 as usize][a] - MOMENTUM[k as usize][a];
-                        }
+                        let (after, before) = (MOMENTUM[k2 as usize], MOMENTUM[k as usize]);
+                        self.wall_impulse[0] += after[0] - before[0];
+                        self.wall_impulse[1] += after[1] - before[1];
                     }
                 }
             }
