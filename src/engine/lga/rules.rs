@@ -34,6 +34,13 @@
 //!
 //! A rule applies only to exactly the listed configuration (as in FHP's tables); every other
 //! state is left unchanged by (1)-(5).
+//!
+//! The reading is also the one that reproduces the seed's results. Measured with it: the
+//! Fig. 2 run (L = 220, W = 11, rho = 1, p = g = b = 0.5, 256K samples) gives a peak at
+//! f = 590-604 (seed: 596), v = 0.396-0.406 (seed: 0.4) and alpha = 1.28 +- 0.06 over seeds
+//! 1-5 (seed: 1.33), and the Fig. 1(a) run shows dense bands travelling at ~0.3 sites per
+//! step. The all-velocity reading was tried and not kept: there the spectrum is flat below
+//! f ~ 300 (no 1/f^alpha at all) and the space-time picture shows no bands.
 
 use super::params::Thresholds;
 
