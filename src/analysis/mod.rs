@@ -17,6 +17,7 @@ pub mod columns;
 pub mod fields;
 mod kind;
 pub mod labels;
+pub mod lattice;
 pub mod profiles;
 mod report;
 pub mod snapshot_io;

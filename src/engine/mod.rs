@@ -9,6 +9,7 @@ pub mod declare;
 pub mod dsmc;
 pub mod edmd;
 pub mod envelope;
+pub mod lga;
 pub mod registry;
 
 use serde::{Deserialize, Serialize};
