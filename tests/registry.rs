@@ -74,7 +74,7 @@ fn pre_registry_files_still_read() {
         .expect("old checkpoint");
     assert_eq!(cp.format, 1);
     assert_eq!(cp.snapshot, 4);
-    assert_eq!(cp.records.len(), 5);
+    assert_eq!(store::load_records(&old, &cp).unwrap().len(), 5);
     let engine = granflow::engine::restore(&cp.engine).expect("old engine bytes restore");
     assert_eq!(engine.def().name, "edmd");
 

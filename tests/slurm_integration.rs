@@ -553,7 +553,11 @@ fn sweep_on_slurm_equals_local_run() {
     for j in &st.jobs {
         let log = std::fs::read_to_string(sweep_dir.join("jobs").join(&j.job_id).join(JOB_LOG))
             .unwrap_or_default();
-        let lines: Vec<&str> = log.lines().collect();
+        // the event word of each line, without its time and details
+        let lines: Vec<&str> = granflow::sweep::store::log_events(&log)
+            .into_iter()
+            .map(|e| e.split(' ').next().unwrap_or(""))
+            .collect();
         let at = |p: &dyn Fn(&str) -> bool| lines.iter().position(|l| p(l));
         assert_eq!(
             lines.iter().filter(|l| **l == "start").count(),
@@ -569,7 +573,7 @@ fn sweep_on_slurm_equals_local_run() {
         );
         if j.job_id == victim.job_id {
             let start = at(&|l| l == "start").unwrap();
-            let resume = at(&|l| l.starts_with("resume")).unwrap_or_else(|| {
+            let resume = at(&|l| l == "resume").unwrap_or_else(|| {
                 panic!(
                     "{} did not resume from its checkpoint:\n{log}\n{task_log}",
                     j.job_id

@@ -6,10 +6,11 @@
 //! length), K = ceil(run length / interval). A checkpoint (engine bytes + records so far) is
 //! written after snapshot k when k is a multiple of `checkpoint_every` and after the last one:
 //! the only point where `Engine::checkpoint` is valid, and never driven by wall-clock time, so
-//! a resumed job ends bitwise identical to an uninterrupted one.
+//! a resumed job ends bitwise identical to an uninterrupted one. Records are appended to the
+//! job's record log at every snapshot and made durable before each checkpoint names them.
 
 use super::grid::PlannedJob;
-use super::store::{self, Claim, JobCheckpoint, JobResult};
+use super::store::{self, Claim, JobCheckpoint, JobResult, RecordLog};
 use crate::analysis::StopCheck;
 use crate::engine::{self, Engine, StopAt};
 use crate::provenance::Provenance;
@@ -47,52 +48,43 @@ pub fn run_job(
     let analyser = job.params.analyser().map_err(anyhow::Error::msg)?;
     let total = run.snapshot_count();
     let started = Instant::now();
-    let (mut engine, mut records, mut k, wall_before): (Box<dyn Engine>, _, u32, f64) =
-        match store::read_checkpoint(dir)? {
-            Some(cp) => {
-                store::log(
-                    dir,
-                    &format!(
-                        "resume at snapshot {} [{} on {}]",
-                        cp.snapshot,
-                        crate::provenance::Provenance::build(),
-                        crate::provenance::host()
-                    ),
-                )?;
-                (
-                    engine::restore(&cp.engine)?,
-                    cp.records,
-                    cp.snapshot,
-                    cp.wall_seconds,
-                )
-            }
-            None => {
-                let mut engine = job.params.build_engine()?;
-                let snap = engine.snapshot();
-                let records = vec![analyser.record(&snap).map_err(anyhow::Error::msg)?];
-                // checkpoint 0 first, then the log line: a job is "started" once its initial
-                // state is on disk; a kill before that leaves nothing to resume and no trace
-                store::write_checkpoint(
-                    dir,
-                    &JobCheckpoint::new(
-                        0,
-                        engine.checkpoint(),
-                        records.clone(),
-                        started.elapsed().as_secs_f64(),
-                        snap.progress,
-                    ),
-                )?;
-                store::log(
-                    dir,
-                    &format!(
-                        "start [{} on {}]",
-                        crate::provenance::Provenance::build(),
-                        crate::provenance::host()
-                    ),
-                )?;
-                (engine, records, 0, 0.0)
-            }
-        };
+    let build = format!(
+        "[{} on {}]",
+        crate::provenance::Provenance::build(),
+        crate::provenance::host()
+    );
+    let (mut engine, mut records, mut log, mut k, wall_before) = match store::read_checkpoint(dir)?
+    {
+        Some(cp) => {
+            let records = store::load_records(dir, &cp)?;
+            let log = RecordLog::open(dir, Some(&cp))?;
+            store::log(dir, &format!("resume at snapshot {} {build}", cp.snapshot))?;
+            let engine: Box<dyn Engine> = engine::restore(&cp.engine)?;
+            (engine, records, log, cp.snapshot, cp.wall_seconds)
+        }
+        None => {
+            let mut engine = job.params.build_engine()?;
+            let snap = engine.snapshot();
+            let records = vec![analyser.record(&snap).map_err(anyhow::Error::msg)?];
+            let mut log = RecordLog::open(dir, None)?;
+            log.append(&records[0])?;
+            log.sync()?;
+            // checkpoint 0 first, then the log line: a job is "started" once its initial
+            // state is on disk; a kill before that leaves nothing to resume and no trace
+            store::write_checkpoint(
+                dir,
+                &JobCheckpoint::new(
+                    0,
+                    engine.checkpoint(),
+                    &log,
+                    started.elapsed().as_secs_f64(),
+                    snap.progress,
+                ),
+            )?;
+            store::log(dir, &format!("start {build}"))?;
+            (engine, records, log, 0, 0.0)
+        }
+    };
     anyhow::ensure!(
         engine.def().name == job.params.engine,
         "the checkpoint holds a {} engine, the job runs {}",
@@ -117,14 +109,17 @@ pub fn run_job(
         k += 1;
         engine.advance(StopAt::on(clock, run.snapshot_target(k)))?;
         let snap = engine.snapshot();
-        records.push(analyser.record(&snap).map_err(anyhow::Error::msg)?);
+        let record = analyser.record(&snap).map_err(anyhow::Error::msg)?;
+        log.append(&record)?;
+        records.push(record);
         if k % run.checkpoint_every == 0 || k == total {
+            log.sync()?;
             store::write_checkpoint(
                 dir,
                 &JobCheckpoint::new(
                     k,
                     engine.checkpoint(),
-                    records.clone(),
+                    &log,
                     wall_before + started.elapsed().as_secs_f64(),
                     snap.progress,
                 ),

@@ -1,0 +1,182 @@
+//! `checkpoint.bin`: the engine's sealed state at a snapshot and the length of the record log
+//! it covers (postcard, then a CRC-32). Format 1 (before engines were plug-ins) held the
+//! structure records inline; it still reads.
+
+use super::{CHECKPOINT_FILE, write_atomic};
+use crate::analysis::{BinSums, Record, SnapshotRecord};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Format of `checkpoint.bin` written now (1: the structure records inline; 3: the records in
+/// the record log, the checkpoint says how much of it is its own).
+const CHECKPOINT_FORMAT: u32 = 3;
+
+/// What a job's checkpoint file holds (postcard, followed by a CRC-32 of the bytes).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct JobCheckpoint {
+    /// format version
+    pub format: u32,
+    /// snapshots taken so far after the initial one (k of the last snapshot)
+    pub snapshot: u32,
+    /// [`crate::engine::Engine::checkpoint`] bytes taken right after snapshot k
+    pub engine: Vec<u8>,
+    /// records of snapshots 0..=k in the record log: how many, and its length in bytes
+    pub records: u64,
+    pub records_bytes: u64,
+    /// wall-clock seconds spent up to this checkpoint (informational)
+    pub wall_seconds: f64,
+    /// the engine's clocks at snapshot k
+    pub progress: crate::engine::Progress,
+    /// the records of a format-1 checkpoint, which held them itself
+    #[serde(skip)]
+    pub legacy_records: Option<Vec<Record>>,
+}
+
+/// Format 1 (before engines were plug-ins): the records were the structure analysis's, in
+/// the layout of [`SnapshotRecordV1`].
+#[derive(Deserialize)]
+struct JobCheckpointV1 {
+    format: u32,
+    snapshot: u32,
+    engine: Vec<u8>,
+    records: Vec<SnapshotRecordV1>,
+    wall_seconds: f64,
+}
+
+/// A structure record as format 1 stored it (frozen: postcard needs the exact layout). The
+/// balance totals it lacks read as NaN (unknown).
+#[derive(Deserialize)]
+struct SnapshotRecordV1 {
+    collisions_per_particle: f64,
+    time: f64,
+    translational_energy: f64,
+    rotational_energy: f64,
+    particles: u64,
+    box_extent: [f64; 3],
+    gravity: f64,
+    inertia_factor: f64,
+    grid: [u32; 3],
+    grid_volume: f64,
+    counts_xy: Vec<u32>,
+    counts_xz: Vec<u32>,
+    counts_yz: Vec<u32>,
+    profile: Vec<BinSums>,
+}
+
+impl From<SnapshotRecordV1> for SnapshotRecord {
+    fn from(r: SnapshotRecordV1) -> Self {
+        SnapshotRecord {
+            collisions_per_particle: r.collisions_per_particle,
+            time: r.time,
+            translational_energy: r.translational_energy,
+            rotational_energy: r.rotational_energy,
+            particles: r.particles,
+            box_extent: r.box_extent,
+            gravity: r.gravity,
+            inertia_factor: r.inertia_factor,
+            grid: r.grid,
+            grid_volume: r.grid_volume,
+            counts_xy: r.counts_xy,
+            counts_xz: r.counts_xz,
+            counts_yz: r.counts_yz,
+            profile: r.profile,
+            wall_impulse_x: f64::NAN,
+            momentum_x: f64::NAN,
+            energy_dissipated: f64::NAN,
+            gravity_work: f64::NAN,
+            suppressed_dissipation: f64::NAN,
+            pair_collisions: 0,
+            tc_elastic_collisions: 0,
+        }
+    }
+}
+
+impl JobCheckpoint {
+    /// A checkpoint in the current format, covering the record log up to `log`'s position.
+    pub fn new(
+        snapshot: u32,
+        engine: Vec<u8>,
+        log: &super::RecordLog,
+        wall_seconds: f64,
+        progress: crate::engine::Progress,
+    ) -> Self {
+        let (records, records_bytes) = log.position();
+        JobCheckpoint {
+            format: CHECKPOINT_FORMAT,
+            snapshot,
+            engine,
+            records,
+            records_bytes,
+            wall_seconds,
+            progress,
+            legacy_records: None,
+        }
+    }
+}
+
+/// The engine's clocks at a job's last checkpoint, if it has one.
+pub fn checkpoint_progress(dir: &Path) -> Option<crate::engine::Progress> {
+    read_checkpoint(dir).ok().flatten().map(|c| c.progress)
+}
+
+/// Read a job's checkpoint (None when there is none).
+pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
+    let path = dir.join(CHECKPOINT_FILE);
+    let bytes = match std::fs::read(&path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(e.into()),
+    };
+    anyhow::ensure!(bytes.len() >= 4, "{}: truncated checkpoint", path.display());
+    let (body, crc) = bytes.split_at(bytes.len() - 4);
+    anyhow::ensure!(
+        crc32fast::hash(body).to_le_bytes() == crc,
+        "{}: checkpoint checksum mismatch",
+        path.display()
+    );
+    let (format, _) = postcard::take_from_bytes::<u32>(body)?;
+    let cp = match format {
+        1 => {
+            let v1: JobCheckpointV1 = postcard::from_bytes(body)?;
+            let progress =
+                v1.records
+                    .last()
+                    .map_or_else(Default::default, |r| crate::engine::Progress {
+                        time: r.time,
+                        collisions_per_particle: r.collisions_per_particle,
+                        steps: 0,
+                        events: 0,
+                    });
+            let records: Vec<Record> = v1
+                .records
+                .into_iter()
+                .map(|r| Record::Structure(r.into()))
+                .collect();
+            JobCheckpoint {
+                format: v1.format,
+                snapshot: v1.snapshot,
+                engine: v1.engine,
+                progress,
+                records: records.len() as u64,
+                records_bytes: 0,
+                wall_seconds: v1.wall_seconds,
+                legacy_records: Some(records),
+            }
+        }
+        CHECKPOINT_FORMAT => postcard::from_bytes(body)?,
+        other => anyhow::bail!(
+            "{}: checkpoint format {other} (this granflow reads formats 1 and {CHECKPOINT_FORMAT})",
+            path.display()
+        ),
+    };
+    Ok(Some(cp))
+}
+
+/// Write a job's checkpoint atomically.
+pub fn write_checkpoint(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<()> {
+    let mut bytes = postcard::to_stdvec(cp)?;
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    write_atomic(&dir.join(CHECKPOINT_FILE), &bytes)?;
+    Ok(())
+}

@@ -1,0 +1,213 @@
+//! The job store: the one owner of a job directory's files. One directory per job, its state
+//! read from the files in it alone, claims through an OS file lock that dies with its process;
+//! the formats of the checkpoint ([`checkpoint`]), the record log ([`records`]) and the result
+//! ([`result`]) live in submodules.
+//!
+//! `jobs/<id>/` holds:
+//! - `params.json`: the resolved parameters and canonical form, written once;
+//! - `lock`: the claim; a runner holds an exclusive `flock` on it while the job runs;
+//! - `checkpoint.bin`: engine checkpoint and how many records it covers, replaced atomically;
+//! - `records.bin`: the analysis records, one frame per snapshot, appended (never rewritten:
+//!   checkpoint I/O stays linear in the run length);
+//! - `result.ron`: the job's analysis and counters; its presence means done;
+//! - `failed.txt`: the error of a failed job (removed by `--retry-failed`);
+//! - `log.txt`: one line per start ("start" or "resume"), end ("done") or failure, appended.
+
+use super::grid::PlannedJob;
+use super::job::{JobId, JobParams};
+use super::write_atomic;
+use serde::{Deserialize, Serialize};
+
+mod checkpoint;
+mod records;
+mod result;
+
+pub use checkpoint::{JobCheckpoint, checkpoint_progress, read_checkpoint, write_checkpoint};
+pub use records::{RecordLog, load_records};
+pub use result::{JobResult, read_result, write_result};
+use std::fs::{File, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+pub const PARAMS_FILE: &str = "params.json";
+pub const LOCK_FILE: &str = "lock";
+pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
+pub const RESULT_FILE: &str = "result.ron";
+pub const FAILED_FILE: &str = "failed.txt";
+pub const LOG_FILE: &str = "log.txt";
+pub const RECORDS_FILE: &str = "records.bin";
+
+/// The state of a job as its directory tells it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum JobState {
+    /// nothing run yet
+    Pending,
+    /// checkpointed at this point of progress, not running
+    Partial(crate::engine::Progress),
+    /// claimed by a live runner (its lock is held)
+    Running,
+    /// finished: result.ron exists
+    Done,
+    /// failed with this error
+    Failed(String),
+}
+
+impl JobState {
+    /// Short name: pending, partial, running, done, failed.
+    pub fn name(&self) -> &'static str {
+        match self {
+            JobState::Pending => "pending",
+            JobState::Partial(_) => "partial",
+            JobState::Running => "running",
+            JobState::Done => "done",
+            JobState::Failed(_) => "failed",
+        }
+    }
+}
+
+/// What `params.json` holds.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ParamsFile {
+    pub id: JobId,
+    pub canonical: String,
+    pub params: JobParams,
+}
+
+/// Create the job directory and write `params.json` once (an existing one is kept).
+pub fn init_job_dir(dir: &Path, job: &PlannedJob) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let path = dir.join(PARAMS_FILE);
+    if !path.exists() {
+        let file = ParamsFile {
+            id: job.id.clone(),
+            canonical: job.params.canonical(),
+            params: job.params.clone(),
+        };
+        let text = serde_json::to_string_pretty(&file).map_err(std::io::Error::other)?;
+        write_atomic(&path, text.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// The state of the job in `dir`, from its files and lock alone (a missing dir is pending).
+/// Probing the lock takes it for an instant when it is free.
+pub fn job_state(dir: &Path) -> JobState {
+    if dir.join(RESULT_FILE).exists() {
+        return JobState::Done;
+    }
+    if let Ok(f) = OpenOptions::new().write(true).open(dir.join(LOCK_FILE))
+        && f.try_lock().is_err()
+    {
+        return JobState::Running;
+    }
+    state_unlocked(dir)
+}
+
+/// The state ignoring the lock (what a runner that holds the lock sees).
+fn state_unlocked(dir: &Path) -> JobState {
+    if dir.join(RESULT_FILE).exists() {
+        return JobState::Done;
+    }
+    if let Ok(err) = std::fs::read_to_string(dir.join(FAILED_FILE)) {
+        return JobState::Failed(err.trim().to_string());
+    }
+    match checkpoint_progress(dir) {
+        Some(progress) => JobState::Partial(progress),
+        None => JobState::Pending,
+    }
+}
+
+/// An exclusive claim on a job; released when dropped (or when the process dies).
+#[derive(Debug)]
+pub struct Claim {
+    pub dir: PathBuf,
+    _lock: File,
+}
+
+/// Why a job was not claimed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NotClaimed {
+    /// another runner holds it
+    Busy,
+    /// already done
+    Done,
+    /// failed earlier (and retrying was not asked for)
+    Failed(String),
+}
+
+/// Try to claim the job in `dir` (non-blocking). The state is re-read under the lock, so a job
+/// finished by another runner in the meantime is never run again. With `retry_failed` a failed
+/// job's `failed.txt` is removed and it resumes from its last checkpoint.
+pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim, NotClaimed>> {
+    std::fs::create_dir_all(dir)?;
+    let lock = OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(dir.join(LOCK_FILE))?;
+    // a state probe ([`job_state`]) holds the lock for an instant: try a few times before
+    // concluding that another runner holds it
+    let mut attempt = 0;
+    loop {
+        match lock.try_lock() {
+            Ok(()) => break,
+            Err(std::fs::TryLockError::WouldBlock) if attempt < 5 => {
+                attempt += 1;
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            Err(std::fs::TryLockError::WouldBlock) => return Ok(Err(NotClaimed::Busy)),
+            Err(std::fs::TryLockError::Error(e)) => return Err(e),
+        }
+    }
+    match state_unlocked(dir) {
+        JobState::Done => Ok(Err(NotClaimed::Done)),
+        JobState::Failed(e) if !retry_failed => Ok(Err(NotClaimed::Failed(e))),
+        JobState::Failed(_) => {
+            std::fs::remove_file(dir.join(FAILED_FILE))?;
+            Ok(Ok(Claim {
+                dir: dir.to_path_buf(),
+                _lock: lock,
+            }))
+        }
+        _ => Ok(Ok(Claim {
+            dir: dir.to_path_buf(),
+            _lock: lock,
+        })),
+    }
+}
+
+/// Append one line to the job's log, `<UTC time> <event>`, and flush it to disk.
+pub fn log(dir: &Path, event: &str) -> std::io::Result<()> {
+    let mut f = OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(dir.join(LOG_FILE))?;
+    writeln!(f, "{} {event}", crate::provenance::now())?;
+    f.sync_data()
+}
+
+/// The events of a log's text, without their times (lines written before logs had times are
+/// taken whole).
+pub fn log_events(text: &str) -> Vec<&str> {
+    text.lines()
+        .map(|l| match l.split_once(' ') {
+            Some((time, event)) if time.len() == 20 && time.ends_with('Z') => event,
+            _ => l,
+        })
+        .collect()
+}
+
+/// When the job first started (the time of its log's first `start`), if the log says.
+pub fn first_start(dir: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(dir.join(LOG_FILE)).ok()?;
+    text.lines()
+        .find(|l| l.split(' ').nth(1) == Some("start"))
+        .and_then(|l| l.split(' ').next())
+        .map(str::to_string)
+}
+
+/// Record a failure (atomically).
+pub fn mark_failed(dir: &Path, error: &str) -> std::io::Result<()> {
+    write_atomic(&dir.join(FAILED_FILE), format!("{error}\n").as_bytes())?;
+    log(dir, &format!("failed: {error}"))
+}

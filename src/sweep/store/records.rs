@@ -1,0 +1,136 @@
+//! `records.bin`: a job's analysis records, one frame per snapshot, appended as the job runs
+//! and never rewritten. Frame: payload length (u32 LE), CRC-32 of the payload (u32 LE),
+//! payload (postcard of the [`Record`]). A checkpoint names the prefix of the log it covers
+//! (records and bytes); frames after it (written after the last checkpoint by a job that was
+//! then killed) are cut off when the job resumes, so a resumed job's log is the uninterrupted
+//! job's, byte for byte.
+
+use super::{JobCheckpoint, RECORDS_FILE};
+use crate::analysis::Record;
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
+use std::path::Path;
+
+const FRAME_HEADER: usize = 8;
+
+fn frame(record: &Record) -> anyhow::Result<Vec<u8>> {
+    let payload = postcard::to_stdvec(record)?;
+    let mut out = Vec::with_capacity(FRAME_HEADER + payload.len());
+    out.extend_from_slice(&(payload.len() as u32).to_le_bytes());
+    out.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+    out.extend_from_slice(&payload);
+    Ok(out)
+}
+
+/// The records a checkpoint covers: the first `cp.records` frames of the log, which must fill
+/// exactly `cp.records_bytes` bytes, each with a good checksum (format-1 checkpoints carry their
+/// records themselves).
+pub fn load_records(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<Vec<Record>> {
+    if let Some(records) = &cp.legacy_records {
+        return Ok(records.clone());
+    }
+    let path = dir.join(RECORDS_FILE);
+    let mut bytes = vec![0u8; cp.records_bytes as usize];
+    let mut file = File::open(&path)
+        .map_err(|e| anyhow::anyhow!("{}: cannot open the record log: {e}", path.display()))?;
+    file.read_exact(&mut bytes).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: the record log is shorter than the {} bytes its checkpoint covers: {e}",
+            path.display(),
+            cp.records_bytes
+        )
+    })?;
+    let mut records = Vec::with_capacity(cp.records as usize);
+    let mut at = 0usize;
+    while at < bytes.len() {
+        anyhow::ensure!(
+            at + FRAME_HEADER <= bytes.len(),
+            "{}: truncated frame at byte {at}",
+            path.display()
+        );
+        let len = u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes")) as usize;
+        let crc = u32::from_le_bytes(bytes[at + 4..at + 8].try_into().expect("4 bytes"));
+        let start = at + FRAME_HEADER;
+        anyhow::ensure!(
+            start + len <= bytes.len(),
+            "{}: frame at byte {at} runs past the checkpointed length",
+            path.display()
+        );
+        let payload = &bytes[start..start + len];
+        anyhow::ensure!(
+            crc32fast::hash(payload) == crc,
+            "{}: checksum mismatch in the frame at byte {at}",
+            path.display()
+        );
+        records.push(postcard::from_bytes(payload)?);
+        at = start + len;
+    }
+    anyhow::ensure!(
+        records.len() as u64 == cp.records,
+        "{}: {} records where the checkpoint covers {}",
+        path.display(),
+        records.len(),
+        cp.records
+    );
+    Ok(records)
+}
+
+/// The record log of a running job, open for appending.
+pub struct RecordLog {
+    file: BufWriter<File>,
+    records: u64,
+    bytes: u64,
+}
+
+impl RecordLog {
+    /// Open the log to continue after `cp` (cut back to what it covers; a format-1
+    /// checkpoint's records are written out first), or start an empty one.
+    pub fn open(dir: &Path, cp: Option<&JobCheckpoint>) -> anyhow::Result<Self> {
+        let path = dir.join(RECORDS_FILE);
+        let file = OpenOptions::new()
+            .create(true)
+            .write(true)
+            .truncate(false)
+            .open(&path)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let (records, bytes) = match cp {
+            Some(cp) if cp.legacy_records.is_none() => (cp.records, cp.records_bytes),
+            _ => (0, 0),
+        };
+        file.set_len(bytes)?;
+        let mut file = BufWriter::new(file);
+        file.seek(SeekFrom::Start(bytes))?;
+        let mut log = RecordLog {
+            file,
+            records,
+            bytes,
+        };
+        if let Some(legacy) = cp.and_then(|c| c.legacy_records.as_ref()) {
+            for r in legacy {
+                log.append(r)?;
+            }
+        }
+        Ok(log)
+    }
+
+    /// Append one record (buffered; [`RecordLog::sync`] makes it durable).
+    pub fn append(&mut self, record: &Record) -> anyhow::Result<()> {
+        let bytes = frame(record)?;
+        self.file.write_all(&bytes)?;
+        self.records += 1;
+        self.bytes += bytes.len() as u64;
+        Ok(())
+    }
+
+    /// Write out and fsync what was appended (before a checkpoint names it).
+    pub fn sync(&mut self) -> anyhow::Result<()> {
+        self.file.flush()?;
+        self.file.get_ref().sync_data()?;
+        Ok(())
+    }
+
+    /// Records and bytes written so far.
+    pub fn position(&self) -> (u64, u64) {
+        (self.records, self.bytes)
+    }
+}

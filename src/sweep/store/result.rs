@@ -1,0 +1,71 @@
+//! `result.ron`: a finished job's result (its presence means done).
+
+use super::{RESULT_FILE, write_atomic};
+use crate::analysis::Analysis;
+use crate::engine::Counters;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A finished job's result (`result.ron`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JobResult {
+    /// the job id
+    pub id: String,
+    /// the engine that ran it (results written before the registry are EDMD's)
+    #[serde(default = "edmd")]
+    pub engine: String,
+    /// N
+    pub particles: usize,
+    /// snapshots taken after the initial one
+    pub snapshots: u32,
+    /// final collisions per particle (0 for engines without collisions)
+    pub collisions_per_particle: f64,
+    /// final simulated time
+    pub time: f64,
+    /// final time steps (0 for event-driven engines)
+    #[serde(default)]
+    pub steps: u64,
+    /// final counters, named as the engine declares them
+    pub counters: Counters,
+    /// wall-clock seconds of simulation (summed over resumes, up to their last checkpoint)
+    pub wall_seconds: f64,
+    /// events per wall-clock second
+    pub events_per_second: f64,
+    /// for runs until steady: where and why the job stopped, or that it reached its cap
+    #[serde(default)]
+    pub stop_reason: String,
+    /// which code made it, where and when (results of older builds: empty, versions 0)
+    #[serde(default)]
+    pub provenance: crate::provenance::Provenance,
+    /// the analysis
+    pub analysis: Analysis,
+}
+
+impl JobResult {
+    /// The final reading of a clock.
+    pub fn clock(&self, clock: crate::engine::Clock) -> f64 {
+        match clock {
+            crate::engine::Clock::CollisionsPerParticle => self.collisions_per_particle,
+            crate::engine::Clock::Steps => self.steps as f64,
+            crate::engine::Clock::Time => self.time,
+        }
+    }
+}
+
+fn edmd() -> String {
+    "edmd".into()
+}
+
+/// Read a finished job's result.
+pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
+    let path = dir.join(RESULT_FILE);
+    let text = std::fs::read_to_string(&path)?;
+    ron::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+}
+
+/// Write a job's result atomically (this marks it done).
+pub fn write_result(dir: &Path, result: &JobResult) -> anyhow::Result<()> {
+    let text = ron::ser::to_string_pretty(result, ron::ser::PrettyConfig::default())?;
+    write_atomic(&dir.join(RESULT_FILE), text.as_bytes())?;
+    Ok(())
+}
