@@ -4,6 +4,7 @@
 //! engine's declaration names its kind; a new kind of analysis is added here.
 
 use super::columns::{Cell, ColumnDef, ColumnKind, TableDef};
+use super::lattice::{LatticeAnalysis, LatticeRecord, LatticeSettings};
 use super::{AnalysisSettings, JobAnalysis, SnapshotRecord};
 use crate::engine::Snapshot;
 use serde::{Deserialize, Serialize};
@@ -15,18 +16,23 @@ pub enum AnalysisKind {
     /// density-wave structure of a particle channel (thesis ch. 3 and 5): fields, spectra,
     /// families against shot noise, labels, profiles, steady state
     Structure,
+    /// density waves of a lattice gas in a pipe (Peng & Herrmann 1994): bin densities over
+    /// time, the power spectrum of a region's count, 1/f^alpha, the wave peak
+    Lattice,
 }
 
 /// A kind's settings, ready to record and analyse.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Analyser {
     Structure(AnalysisSettings),
+    Lattice(LatticeSettings),
 }
 
 /// What one snapshot contributes, by kind.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Record {
     Structure(SnapshotRecord),
+    Lattice(LatticeRecord),
 }
 
 /// A job's analysis, by kind (untagged in `result.ron`: results written before there were
@@ -35,6 +41,7 @@ pub enum Record {
 #[serde(untagged)]
 pub enum Analysis {
     Structure(JobAnalysis),
+    Lattice(LatticeAnalysis),
 }
 
 impl AnalysisKind {
@@ -44,7 +51,13 @@ impl AnalysisKind {
     pub fn version(self) -> u32 {
         match self {
             AnalysisKind::Structure => 2,
+            AnalysisKind::Lattice => 1,
         }
+    }
+
+    /// Whether a run of this kind can stop once steady (`run.until_steady`).
+    pub fn supports_until_steady(self) -> bool {
+        matches!(self, AnalysisKind::Structure)
     }
 
     /// Parse and check the settings of a sweep's `analysis` section (missing keys take their
@@ -62,6 +75,13 @@ impl AnalysisKind {
                 s.validate()?;
                 Ok(Analyser::Structure(s))
             }
+            AnalysisKind::Lattice => {
+                let s: LatticeSettings = serde_json::from_value(given).map_err(|e| {
+                    format!("{e}; allowed keys: bin_length, region_bin, segments, fit_min, fit_max, false_alarm, transient_fraction, spacetime_rows")
+                })?;
+                s.validate()?;
+                Ok(Analyser::Lattice(s))
+            }
         }
     }
 
@@ -70,6 +90,9 @@ impl AnalysisKind {
         match self {
             AnalysisKind::Structure => {
                 serde_json::to_value(AnalysisSettings::default()).expect("settings serialise")
+            }
+            AnalysisKind::Lattice => {
+                serde_json::to_value(LatticeSettings::default()).expect("settings serialise")
             }
         }
     }
@@ -80,6 +103,10 @@ impl AnalysisKind {
         let empty = match self {
             AnalysisKind::Structure => {
                 serde_json::to_value(super::report::empty_summary()).expect("summary serialises")
+            }
+            AnalysisKind::Lattice => {
+                serde_json::to_value(super::lattice::analyse(&[], &LatticeSettings::default()).summary)
+                    .expect("summary serialises")
             }
         };
         let Value::Object(map) = empty else {
@@ -103,9 +130,58 @@ impl AnalysisKind {
     pub fn tables(self) -> &'static [TableDef] {
         match self {
             AnalysisKind::Structure => STRUCTURE_TABLES,
+            AnalysisKind::Lattice => LATTICE_TABLES,
         }
     }
 }
+
+const LATTICE_TABLES: &[TableDef] = &[
+    TableDef {
+        name: "spectra",
+        columns: &[
+            ColumnDef {
+                name: "frequency",
+                kind: ColumnKind::F64,
+                doc: "f in the seed's unit (327680 / period in steps)",
+            },
+            ColumnDef {
+                name: "period",
+                kind: ColumnKind::F64,
+                doc: "period in time steps",
+            },
+            ColumnDef {
+                name: "power",
+                kind: ColumnKind::F64,
+                doc: "segment-averaged power of the region's particle count",
+            },
+            ColumnDef {
+                name: "fitted",
+                kind: ColumnKind::Bool,
+                doc: "in the 1/f^alpha fit (inside the band, not part of the sharp peak)",
+            },
+        ],
+    },
+    TableDef {
+        name: "spacetime",
+        columns: &[
+            ColumnDef {
+                name: "step",
+                kind: ColumnKind::U64,
+                doc: "time step of the record",
+            },
+            ColumnDef {
+                name: "bin",
+                kind: ColumnKind::U32,
+                doc: "bin along the pipe",
+            },
+            ColumnDef {
+                name: "count",
+                kind: ColumnKind::U32,
+                doc: "particles in the bin",
+            },
+        ],
+    },
+];
 
 const STRUCTURE_TABLES: &[TableDef] = &[
     TableDef {
@@ -190,6 +266,7 @@ impl Analyser {
     pub fn settings(&self) -> Value {
         match self {
             Analyser::Structure(s) => serde_json::to_value(s).expect("settings serialise"),
+            Analyser::Lattice(s) => serde_json::to_value(s).expect("settings serialise"),
         }
     }
 
@@ -202,6 +279,16 @@ impl Analyser {
                 }
                 Ok(Record::Structure(super::record_snapshot(snapshot, s)))
             }
+            Analyser::Lattice(s) => {
+                let lattice = snapshot.lattice().ok_or(
+                    "the lattice analysis needs a lattice, and this engine's snapshots carry none",
+                )?;
+                Ok(Record::Lattice(super::lattice::record_of(
+                    snapshot.progress.steps,
+                    lattice,
+                    s,
+                )))
+            }
         }
     }
 
@@ -211,11 +298,22 @@ impl Analyser {
             Analyser::Structure(s) => {
                 let records: Vec<SnapshotRecord> = records
                     .iter()
-                    .map(|r| match r {
-                        Record::Structure(r) => r.clone(),
+                    .filter_map(|r| match r {
+                        Record::Structure(r) => Some(r.clone()),
+                        Record::Lattice(_) => None,
                     })
                     .collect();
                 Analysis::Structure(super::analyse_job(&records, s))
+            }
+            Analyser::Lattice(s) => {
+                let records: Vec<LatticeRecord> = records
+                    .iter()
+                    .filter_map(|r| match r {
+                        Record::Lattice(r) => Some(r.clone()),
+                        Record::Structure(_) => None,
+                    })
+                    .collect();
+                Analysis::Lattice(super::lattice::analyse(&records, s))
             }
         }
     }
@@ -241,12 +339,15 @@ impl Analyser {
             Analyser::Structure(s) => {
                 let records: Vec<SnapshotRecord> = records
                     .iter()
-                    .map(|r| match r {
-                        Record::Structure(r) => r.clone(),
+                    .filter_map(|r| match r {
+                        Record::Structure(r) => Some(r.clone()),
+                        Record::Lattice(_) => None,
                     })
                     .collect();
                 super::steady_over(&records, s, clock, window, &mut check.structure)
             }
+            // validation refuses `until_steady` for kinds without a steady rule
+            Analyser::Lattice(_) => None,
         }
     }
 }
@@ -256,6 +357,7 @@ impl Record {
     pub fn time(&self) -> f64 {
         match self {
             Record::Structure(r) => r.time,
+            Record::Lattice(r) => r.step as f64,
         }
     }
 }
@@ -265,6 +367,19 @@ impl Analysis {
     pub fn label(&self) -> (&str, u32) {
         match self {
             Analysis::Structure(a) => (&a.summary.label, a.summary.humps),
+            Analysis::Lattice(a) => (&a.summary.label, 0),
+        }
+    }
+
+    /// Write the analysis' per-job figures into a job directory (`<name>.png`); the names
+    /// written.
+    pub fn write_figures(&self, dir: &std::path::Path) -> anyhow::Result<Vec<String>> {
+        match self {
+            Analysis::Structure(_) => Ok(Vec::new()),
+            Analysis::Lattice(a) => {
+                super::lattice::plot_spacetime(a, &dir.join("spacetime.png"))?;
+                Ok(vec!["spacetime.png".into()])
+            }
         }
     }
 
@@ -272,6 +387,7 @@ impl Analysis {
     pub fn kind(&self) -> AnalysisKind {
         match self {
             Analysis::Structure(_) => AnalysisKind::Structure,
+            Analysis::Lattice(_) => AnalysisKind::Lattice,
         }
     }
 
@@ -279,6 +395,7 @@ impl Analysis {
     pub fn summary(&self) -> Map<String, Value> {
         let v = match self {
             Analysis::Structure(a) => serde_json::to_value(&a.summary),
+            Analysis::Lattice(a) => serde_json::to_value(&a.summary),
         };
         match v {
             Ok(Value::Object(m)) => m,
@@ -325,6 +442,26 @@ impl Analysis {
                             r.rotational.into(),
                         ]
                     })
+                    .collect(),
+                _ => Vec::new(),
+            },
+            Analysis::Lattice(a) => match table {
+                "spectra" => a
+                    .spectrum
+                    .iter()
+                    .map(|r| {
+                        vec![
+                            r.frequency.into(),
+                            r.period.into(),
+                            r.power.into(),
+                            Cell::Bool(r.fitted),
+                        ]
+                    })
+                    .collect(),
+                "spacetime" => a
+                    .spacetime
+                    .iter()
+                    .map(|r| vec![r.step.into(), r.bin.into(), r.count.into()])
                     .collect(),
                 _ => Vec::new(),
             },

@@ -29,13 +29,13 @@ pub struct SimArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// run length in collisions per particle
-    #[arg(long, group = "length")]
+    #[arg(long, group = "run_length")]
     pub collisions_per_particle: Option<f64>,
     /// run length in time steps
-    #[arg(long, group = "length")]
+    #[arg(long, group = "run_length")]
     pub steps: Option<f64>,
     /// run length in simulated time
-    #[arg(long, group = "length")]
+    #[arg(long, group = "run_length")]
     pub time: Option<f64>,
     /// report (and snapshot) every this much of the run's clock (default: the engine's
     /// example cadence, or a tenth of the run)
@@ -291,9 +291,18 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
     if args.analyse {
         match plan.analyser.analyse(&records) {
             Analysis::Structure(a) => print_structure(&a),
+            other => print_summary(&other),
         }
     }
     Ok(())
+}
+
+/// Print an analysis' summary as `key: value` lines (kinds without a dedicated printout).
+fn print_summary(a: &Analysis) {
+    println!("\n== analysis ==");
+    for (k, v) in a.summary() {
+        println!("{k}: {v}");
+    }
 }
 
 /// A column title from a ratio name (`tc_elastic_fraction` -> `TC frac`).

@@ -205,16 +205,19 @@ impl Particles {
     }
 }
 
-/// The state of a 2D lattice gas: occupation bits of every site.
+/// A 2D lattice gas seen along its pipe: particles per row across the pipe and the total
+/// momentum (what the lattice analyses consume; the full occupation is the engine's).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Lattice {
     /// L, sites along the pipe (periodic, along gravity)
     pub length: usize,
     /// W, sites across the pipe (between the walls)
     pub width: usize,
-    /// one byte per site, bit k set when state k is occupied (k = 0 rest, 1..=6 moving);
-    /// site (x, y) at index y L + x
-    pub occupation: Vec<u8>,
+    /// particles in each row x = 0 .. L - 1 (all W sites and all states of the row)
+    pub row_counts: Vec<u32>,
+    /// total momentum in the engine's integer units (LGA: x along gravity in half lattice
+    /// spacings, y in sqrt(3)/2)
+    pub momentum: [i64; 2],
 }
 
 /// What a snapshot holds, by kind of engine.

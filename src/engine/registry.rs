@@ -5,7 +5,7 @@
 use super::EngineDef;
 
 /// Every engine, in the order `granflow engines` lists them.
-pub static ENGINES: &[&EngineDef] = &[&super::edmd::DECLARATION];
+pub static ENGINES: &[&EngineDef] = &[&super::edmd::DECLARATION, &super::lga::DECLARATION];
 
 /// The engine of this name.
 pub fn find(name: &str) -> Option<&'static EngineDef> {

@@ -142,6 +142,7 @@ pub fn run_job(
     }
     let snap = engine.snapshot();
     let analysis = analyser.analyse(&records);
+    analysis.write_figures(dir)?;
     let wall_seconds = wall_before + started.elapsed().as_secs_f64();
     let def = job.params.def();
     let mut provenance = Provenance::here(def.version, def.analysis.version());

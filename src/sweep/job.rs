@@ -168,6 +168,15 @@ impl RunSettings {
                 ),
             ));
         }
+        if self.until_steady.is_some() && !engine.analysis.supports_until_steady() {
+            return Err((
+                "until_steady",
+                format!(
+                    "the {} engine's analysis has no steady-state rule: give a run length only",
+                    engine.name
+                ),
+            ));
+        }
         if let Some(u) = &self.until_steady
             && !(u.window.is_finite() && u.window > 0.0 && u.window <= length)
         {

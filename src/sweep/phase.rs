@@ -510,6 +510,12 @@ fn draw_marker<DB: DrawingBackend>(
         }
         "not-steady" => root.draw(&Cross::new((x, y), r, grey.stroke_width(2))),
         "mixed" => root.draw(&Circle::new((x, y), r, orange.stroke_width(3))),
+        // lattice gas (Peng & Herrmann 1994)
+        "density waves" => root.draw(&Rectangle::new(
+            [(x - r, y - r), (x + r, y + r)],
+            red.filled(),
+        )),
+        "no waves" => root.draw(&Circle::new((x, y), r, grey.stroke_width(2))),
         _ => root.draw(&Circle::new((x, y), r, purple.stroke_width(2))),
     }
 }

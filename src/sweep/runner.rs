@@ -154,11 +154,13 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                             let _ = store::log(dir, "done");
                             counts.lock().expect("counts").0 += 1;
                             format!(
-                                "done    {} [{}]: {} ({} humps), {:.1} s, {:.3e} events/s",
+                                "done    {} [{}]: {}, {:.1} s, {:.3e} events/s",
                                 job.id,
                                 job.index,
-                                result.analysis.label().0,
-                                result.analysis.label().1,
+                                crate::analysis::labels::label_key(
+                                    result.analysis.label().0,
+                                    result.analysis.label().1
+                                ),
                                 result.wall_seconds,
                                 result.events_per_second
                             )

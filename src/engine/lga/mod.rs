@@ -7,7 +7,7 @@
 //! site rules in the seed's notation, with the reading of its bond indices), [`rng`] (the
 //! counter-based random stream), [`kernel`] (the bit-parallel engine [`LgaEngine`]),
 //! [`reference`] (one site at a time, the test oracle), [`state`] (counters, checkpoint
-//! payload).
+//! payload), `declaration` (the registry's view and the [`crate::engine::Engine`] boundary).
 //!
 //! **One time step** (step t -> t + 1; all random decisions are keyed by (seed, t, purpose,
 //! site), see [`rng`]):
@@ -47,6 +47,7 @@
 //! sqrt(3)/2, so v1 = (2, 0), v2 = (1, 1) (see [`rules::MOMENTUM`]). Probabilities are
 //! realised as multiples of 2^-32.
 
+mod declaration;
 pub mod kernel;
 pub mod params;
 pub mod reference;
@@ -54,6 +55,7 @@ pub mod rng;
 pub mod rules;
 pub mod state;
 
+pub use declaration::{DECLARATION, params_of};
 pub use kernel::LgaEngine;
 pub use params::LgaParams;
 pub use reference::LgaReference;
