@@ -62,6 +62,7 @@ fn recorded_balances_obey_the_exact_identities_and_are_one_when_steady() {
         .into_iter()
         .map(|r| match r {
             Record::Structure(r) => r,
+            Record::Lattice(_) => panic!("a structure record"),
         })
         .collect();
     let n = records[0].particles as f64;
@@ -82,7 +83,9 @@ fn recorded_balances_obey_the_exact_identities_and_are_one_when_steady() {
             "energy defect {energy}"
         );
     }
-    let Analysis::Structure(a) = &result.analysis;
+    let Analysis::Structure(a) = &result.analysis else {
+        panic!("a structure analysis")
+    };
     let s = &a.summary;
     assert!(s.steady, "{}", s.note);
     // the window's balances are the ratios of the recorded totals across it
@@ -146,7 +149,9 @@ fn run_until_steady_stops_at_the_same_snapshot_when_interrupted() {
         "{}",
         straight.stop_reason
     );
-    let Analysis::Structure(a) = &straight.analysis;
+    let Analysis::Structure(a) = &straight.analysis else {
+        panic!("a structure analysis")
+    };
     assert!(a.summary.steady, "{}", a.summary.note);
     assert!(a.summary.window_end - a.summary.window_start >= 300.0);
     // interrupted at checkpoints before the stop, and resumed from them

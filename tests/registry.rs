@@ -104,13 +104,19 @@ fn pre_registry_files_still_read() {
         assert_eq!(r.time.to_bits(), old_result.time.to_bits(), "{name}");
         assert_eq!(r.snapshots, old_result.snapshots, "{name}");
         let (Analysis::Structure(now), Analysis::Structure(was)) =
-            (&r.analysis, &old_result.analysis);
+            (&r.analysis, &old_result.analysis)
+        else {
+            panic!("structure analyses")
+        };
         assert_eq!(now.energy, was.energy, "{name}: energy trace");
         assert_eq!(now.spectra, was.spectra, "{name}: window spectra");
         assert_eq!(now.summary.label, was.summary.label, "{name}: label");
     }
     // the old records do not know what the collapse guard suppressed: the resumed job says so
-    let (Analysis::Structure(r), Analysis::Structure(f)) = (&resumed.analysis, &fresh.analysis);
+    let (Analysis::Structure(r), Analysis::Structure(f)) = (&resumed.analysis, &fresh.analysis)
+    else {
+        panic!("structure analyses")
+    };
     assert!(r.summary.window_suppressed_dissipation.is_nan());
     assert!(!r.summary.collapse_guard_valid);
     assert!(
@@ -309,4 +315,47 @@ fn sim_rejects_bad_input_before_running() {
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("e = 0.9"), "{text}");
+}
+
+/// A key of another engine is named as such, in sweep files and in `--set`.
+#[test]
+fn a_key_of_another_engine_says_so() {
+    rejected(
+        "other-engine",
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15, bounce_back: 0.5),\n axes: (length_over_width: [1.0]), run: (collisions_per_particle: 10, snapshot_interval: 5))"
+        ),
+        &[
+            "fixed.bounce_back",
+            "parameter of the \"lga\" engine, not of the edmd engine",
+        ],
+    );
+    rejected(
+        "other-engine-lga",
+        "(engine: \"lga\", fixed: (restitution: 0.7), run: (steps: 100, snapshot_interval: 10))",
+        &[
+            "fixed.restitution",
+            "parameter of the \"edmd\" engine, not of the lga engine",
+        ],
+    );
+    let dir = scratch("other-engine-set");
+    let file = write_sweep(
+        &dir,
+        "(engine: \"lga\", fixed: (density: 1.0), run: (steps: 100, snapshot_interval: 10))",
+    );
+    let out = granflow(&[
+        "plan",
+        file.to_str().unwrap(),
+        "--set",
+        "width_over_diameter=30",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("of the \"edmd\" engine"), "{stderr}");
+    // and a clock the lattice gas does not have
+    rejected(
+        "lga-clock",
+        "(engine: \"lga\", run: (collisions_per_particle: 100, snapshot_interval: 10))",
+        &["run.collisions_per_particle", "steps"],
+    );
 }

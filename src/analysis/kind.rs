@@ -104,10 +104,10 @@ impl AnalysisKind {
             AnalysisKind::Structure => {
                 serde_json::to_value(super::report::empty_summary()).expect("summary serialises")
             }
-            AnalysisKind::Lattice => {
-                serde_json::to_value(super::lattice::analyse(&[], &LatticeSettings::default()).summary)
-                    .expect("summary serialises")
-            }
+            AnalysisKind::Lattice => serde_json::to_value(
+                super::lattice::analyse(&[], &LatticeSettings::default()).summary,
+            )
+            .expect("summary serialises"),
         };
         let Value::Object(map) = empty else {
             return Vec::new();

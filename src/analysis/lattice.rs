@@ -168,11 +168,19 @@ pub struct LatticeRecord {
 
 /// The record of a lattice snapshot at time step `step`: its row counts summed into bins of
 /// `settings.bin_length` rows (the last bin shorter when that does not divide L).
-pub fn record_of(step: u64, lattice: &crate::engine::Lattice, settings: &LatticeSettings) -> LatticeRecord {
+pub fn record_of(
+    step: u64,
+    lattice: &crate::engine::Lattice,
+    settings: &LatticeSettings,
+) -> LatticeRecord {
     let b = settings.bin_length.max(1);
     LatticeRecord {
         step,
-        bins: lattice.row_counts.chunks(b).map(|c| c.iter().sum()).collect(),
+        bins: lattice
+            .row_counts
+            .chunks(b)
+            .map(|c| c.iter().sum())
+            .collect(),
         momentum: lattice.momentum,
         length: lattice.length as u32,
         width: lattice.width as u32,

@@ -4,7 +4,9 @@
 use super::state::PAYLOAD_VERSION;
 use super::{LgaEngine, LgaParams};
 use crate::analysis::AnalysisKind;
-use crate::engine::declare::{BuiltEngine, CounterDef, InId, ParamDefault, ParamKind, Problem, ranges};
+use crate::engine::declare::{
+    BuiltEngine, CounterDef, InId, ParamDefault, ParamKind, Problem, ranges,
+};
 use crate::engine::{
     Clock, Content, Counters, Engine, EngineDef, EngineError, Lattice, ParamDef, ParamValue,
     Progress, Snapshot, StopAt, Values, envelope,
