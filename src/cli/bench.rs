@@ -1,9 +1,12 @@
 //! `granflow bench`: engine speed on the standard workloads (collisions/s, events/s, memory per
 //! particle) on one core, with the machine it ran on. `--json` prints a JSON array of objects
 //! with the keys `workload`, `n`, `phi`, `collisions_per_s`, `events_per_s`,
-//! `bytes_per_particle` (scripts compare runs with it; keep the keys).
+//! `bytes_per_particle` (scripts compare runs with it; keep the keys); the lattice-gas
+//! workloads add `site_updates_per_s` (their `phi` is the mean density rho per site, their
+//! collisions are applications of rules (1)-(5), their events site updates).
 
 use crate::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement};
+use crate::engine::lga::{LgaEngine, LgaParams};
 use crate::engine::{Engine, StopAt};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
@@ -30,6 +33,9 @@ pub struct BenchArgs {
     /// skin of the neighbour lists, in d (with lists)
     #[arg(long, default_value_t = NeighbourSearch::DEFAULT_SKIN)]
     pub skin: f64,
+    /// timed site updates of each lattice-gas workload (after 1000 untimed steps)
+    #[arg(long, default_value_t = 1e9)]
+    pub site_updates: f64,
 }
 
 /// The neighbour search a benchmark uses.
@@ -61,6 +67,61 @@ pub struct BenchResult {
     pub collisions_per_s: f64,
     pub events_per_s: f64,
     pub bytes_per_particle: f64,
+    /// lattice gases only
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub site_updates_per_s: Option<f64>,
+}
+
+/// A lattice-gas workload: the seed's runs.
+struct LgaWorkload {
+    name: &'static str,
+    params: LgaParams,
+}
+
+fn lga_workloads() -> Vec<LgaWorkload> {
+    vec![
+        LgaWorkload {
+            // the seed's spectrum runs (Fig. 2): 220 x 11, rho = 1, p = g = b = 0.5
+            name: "lga-fig2-220x11",
+            params: LgaParams::default(),
+        },
+        LgaWorkload {
+            // the seed's pictures (Fig. 1a): 2200 x 11, p = 0.1
+            name: "lga-fig1-2200x11",
+            params: LgaParams {
+                length: 2200,
+                dissipation: 0.1,
+                ..LgaParams::default()
+            },
+        },
+    ]
+}
+
+/// Time a lattice-gas workload: 1000 untimed steps, then `site_updates` timed.
+fn measure_lga(w: &LgaWorkload, site_updates: f64) -> anyhow::Result<BenchResult> {
+    let mut engine = LgaEngine::new(w.params.clone()).map_err(anyhow::Error::msg)?;
+    engine.advance_to(1000);
+    let sites = (w.params.length * w.params.width) as f64;
+    let steps = (site_updates / sites).ceil().max(1.0) as u64;
+    let rules = |e: &LgaEngine| {
+        let c = e.counts();
+        c.head_on + c.dissipative_pairs + c.three_body + c.rest_head_on + c.rest_pairs
+    };
+    let before = rules(&engine);
+    let started = Instant::now();
+    engine.advance_to(1000 + steps);
+    let secs = started.elapsed().as_secs_f64();
+    let n = engine.particle_count() as usize;
+    let updates = steps as f64 * sites / secs;
+    Ok(BenchResult {
+        workload: w.name.to_string(),
+        n,
+        phi: w.params.density,
+        collisions_per_s: (rules(&engine) - before) as f64 / secs,
+        events_per_s: updates,
+        bytes_per_particle: engine.bytes() as f64 / n.max(1) as f64,
+        site_updates_per_s: Some(updates),
+    })
 }
 
 /// A standard workload: its name, parameters and untimed warm-up (collisions per particle).
@@ -128,6 +189,7 @@ fn measure(
         collisions_per_s: collisions / secs,
         events_per_s: (after.events - before.events) as f64 / secs,
         bytes_per_particle: engine.bytes_per_particle(),
+        site_updates_per_s: None,
     })
 }
 
@@ -151,24 +213,31 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         args.collisions_per_particle > 0.0,
         "--collisions-per-particle must be > 0"
     );
+    let wanted = |name: &str| {
+        args.workload
+            .as_ref()
+            .is_none_or(|s| name.contains(s.as_str()))
+    };
     let selected: Vec<Workload> = workloads(&args)
         .into_iter()
-        .filter(|w| {
-            args.workload
-                .as_ref()
-                .is_none_or(|s| w.name.contains(s.as_str()))
-        })
+        .filter(|w| wanted(w.name))
+        .collect();
+    let lattice: Vec<LgaWorkload> = lga_workloads()
+        .into_iter()
+        .filter(|w| wanted(w.name))
         .collect();
     anyhow::ensure!(
-        !selected.is_empty(),
+        !selected.is_empty() || !lattice.is_empty(),
         "no workload matches {:?}; workloads: {}",
         args.workload.as_deref().unwrap_or(""),
         workloads(&args)
             .iter()
             .map(|w| w.name)
+            .chain(lga_workloads().iter().map(|w| w.name))
             .collect::<Vec<_>>()
             .join(", ")
     );
+    anyhow::ensure!(args.site_updates > 0.0, "--site-updates must be > 0");
     let machine = machine();
     if args.json {
         eprintln!("machine: {machine}");
@@ -191,6 +260,22 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             println!(
                 "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}",
                 r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
+            );
+        }
+        results.push(r);
+    }
+    for w in &lattice {
+        let r = measure_lga(w, args.site_updates)?;
+        if !args.json {
+            println!(
+                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.1}  {:.4e} site updates/s",
+                r.workload,
+                r.n,
+                r.phi,
+                r.collisions_per_s,
+                r.events_per_s,
+                r.bytes_per_particle,
+                r.site_updates_per_s.unwrap_or(f64::NAN)
             );
         }
         results.push(r);

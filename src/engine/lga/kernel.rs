@@ -324,6 +324,13 @@ impl LgaEngine {
         bins
     }
 
+    /// Bytes held by the engine's state (both word buffers and the extras list).
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of_val(self.cur.as_slice())
+            + std::mem::size_of_val(self.tmp.as_slice())
+            + self.extras.capacity() * std::mem::size_of::<(usize, u64, u64)>()
+    }
+
     /// The event counters as named values, in the order of [`Counters`]' fields.
     pub fn counters(&self) -> Vec<(&'static str, u64)> {
         self.counters.named()
