@@ -359,3 +359,86 @@ fn a_key_of_another_engine_says_so() {
         &["run.collisions_per_particle", "steps"],
     );
 }
+
+/// Input that cannot run is refused before anything is written (exit 2, naming what is wrong):
+/// a job too large for the machine's memory, an empty job range, a results path that is a file.
+#[test]
+fn impossible_runs_are_refused_up_front() {
+    let dir = scratch("impossible");
+    let file = write_sweep(
+        &dir,
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15),\n axes: (length_over_width: [1.0]), run: (collisions_per_particle: 10, snapshot_interval: 5))"
+        ),
+    );
+    let results = dir.join("results");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        granflow(&args)
+    };
+    let out = run(&[
+        "--set",
+        "width_over_diameter=100000",
+        "--set",
+        "height_over_diameter=100000",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("GB of memory"));
+    assert!(!results.exists(), "something was written");
+    let out = run(&["--job-range", "5:9"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("selects no job"));
+    assert!(!results.exists(), "something was written");
+    let a_file = dir.join("a-file");
+    std::fs::write(&a_file, b"").unwrap();
+    let out = granflow(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        a_file.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("is not a directory"));
+}
+
+/// A closed stdout (`granflow run ... | head -1`) does not stop a run: it ends normally and
+/// its results are written.
+#[test]
+fn a_closed_stdout_does_not_stop_a_run() {
+    let dir = scratch("closed-stdout");
+    let file = write_sweep(
+        &dir,
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0, 3.0]), run: (collisions_per_particle: 200, snapshot_interval: 20))"
+        ),
+    );
+    let results = dir.join("results");
+    let mut child = Command::new(BIN)
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+            "--threads",
+            "1",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away at once
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{status:?}");
+    let sweep = load_sweep(&file, &[]).unwrap();
+    let dirs = sweep.results_dir(&results);
+    for job in &sweep.plan {
+        assert!(dirs.job_dir(&job.id).join(store::RESULT_FILE).exists());
+    }
+    assert!(dirs.tables.join("jobs.parquet").exists());
+}

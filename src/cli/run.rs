@@ -2,6 +2,11 @@
 //! write the tables, and show the phase diagram when every job is done.
 
 use crate::sweep::runner::{RunOptions, run_sweep};
+
+/// println! that survives a closed stdout.
+macro_rules! say {
+    ($($arg:tt)*) => { crate::sweep::say(&format!($($arg)*)) };
+}
 use crate::sweep::{BadInput, load_sweep, phase, tables};
 use clap::Args;
 use std::path::PathBuf;
@@ -48,6 +53,12 @@ pub fn parse_job_range(text: &str, plan_len: usize) -> Result<(usize, usize), Ba
     if a > b {
         return Err(bad());
     }
+    if a >= plan_len {
+        return Err(BadInput(format!(
+            "--job-range {text}: selects no job (the plan has {plan_len} jobs, indices 0 to {})",
+            plan_len.saturating_sub(1)
+        )));
+    }
     Ok((a, b.min(plan_len)))
 }
 
@@ -60,6 +71,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     if args.threads == Some(0) {
         return Err(BadInput("--threads 0: allowed a whole number >= 1".into()).into());
     }
+    crate::sweep::check_results_root(&args.results)?;
     let dirs = sweep.results_dir(&args.results);
     let opts = RunOptions {
         threads: args
@@ -76,19 +88,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let failed: Vec<_> = jobs.iter().filter(|j| j.state.name() == "failed").collect();
     let failures = failed.len();
     if !failed.is_empty() {
-        println!(
+        say!(
             "{} failed jobs (see `granflow status {}`; rerun with --retry-failed):",
             failed.len(),
             dirs.tables.display()
         );
         for j in &failed {
             if let crate::sweep::store::JobState::Failed(e) = &j.state {
-                println!("  {} [{}]: {e}", j.job.id, j.job.index);
+                say!("  {} [{}]: {e}", j.job.id, j.job.index);
             }
         }
     }
     if job_range.is_some() {
-        println!(
+        say!(
             "slice done; run `granflow gather {}` for the tables and the phase diagram",
             dirs.tables.display()
         );
@@ -99,15 +111,15 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             let diagram =
                 phase::PhaseDiagram::build(sweep.engine(), &jobs, x, y).map_err(BadInput)?;
             let (png, svg) = super::phase_diagram::write_plots(&diagram, &dirs.tables)?;
-            println!(
+            say!(
                 "\nphase diagram ({}):\n{}",
                 dirs.tables.display(),
                 diagram.table()
             );
-            println!("plots: {} {}", png.display(), svg.display());
+            say!("plots: {} {}", png.display(), svg.display());
         }
     } else if summary.busy > 0 {
-        println!(
+        say!(
             "some jobs are held by another runner; run `granflow gather {}` when it is done",
             dirs.tables.display()
         );

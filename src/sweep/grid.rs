@@ -36,6 +36,26 @@ fn put(values: &mut Values, alternatives: &[&str], key: &str, value: ParamValue)
     values.insert(key.to_string(), value);
 }
 
+/// The most memory one job may need, in bytes: `GRANFLOW_MAX_JOB_MEMORY_GB` if set, else the
+/// machine's memory (Linux: MemTotal of /proc/meminfo; elsewhere 64 GB).
+pub fn job_memory_limit() -> f64 {
+    if let Some(gb) = std::env::var("GRANFLOW_MAX_JOB_MEMORY_GB")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+    {
+        return gb * 1e9;
+    }
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|m| {
+            m.lines()
+                .find(|l| l.starts_with("MemTotal:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<f64>().ok())
+        })
+        .map_or(64e9, |kb| kb * 1024.0)
+}
+
 /// Expand a validated spec into the plan.
 pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, SpecError> {
     let engine = engine_of(spec).expect("validated: the engine exists");
@@ -111,6 +131,21 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
         let values = engine
             .resolve_values(&values)
             .map_err(|p| at(&p.key, p.message))?;
+        let memory = (engine.memory)(&values);
+        let limit = job_memory_limit();
+        if memory > limit {
+            return Err(at(
+                "fixed",
+                format!(
+                    "a job needs about {:.3e} GB of memory ({} = {:.3e}), more than the limit of {:.1} GB \
+                     (the machine's memory; set GRANFLOW_MAX_JOB_MEMORY_GB to change it)",
+                    memory / 1e9,
+                    engine.size_name,
+                    (engine.size)(&values),
+                    limit / 1e9
+                ),
+            ));
+        }
         let probe = JobParams {
             engine: spec.engine.clone(),
             values,

@@ -197,6 +197,40 @@ pub fn open_any(
     }
 }
 
+/// Check that results can be written under `root` (created if missing): a path that is a file,
+/// or a directory that cannot be written, is bad input naming the path.
+pub fn check_results_root(root: &Path) -> Result<(), BadInput> {
+    if root.exists() && !root.is_dir() {
+        return Err(BadInput(format!(
+            "results path {} is not a directory",
+            root.display()
+        )));
+    }
+    std::fs::create_dir_all(root).map_err(|e| {
+        BadInput(format!(
+            "results path {}: cannot create it: {e}",
+            root.display()
+        ))
+    })?;
+    let probe = root.join(format!(".granflow-write-probe-{}", std::process::id()));
+    std::fs::write(&probe, b"").map_err(|e| {
+        BadInput(format!(
+            "results path {} cannot be written: {e}",
+            root.display()
+        ))
+    })?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
+/// Print a line on stdout, ignoring a closed pipe (`granflow run ... | head` must not stop a
+/// run: results are written whatever happens to the output).
+pub fn say(line: &str) {
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{line}");
+    let _ = out.flush();
+}
+
 /// Write a file atomically: temp file in the same directory, fsync, rename, fsync the directory.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     use std::sync::atomic::{AtomicU64, Ordering};

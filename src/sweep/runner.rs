@@ -106,7 +106,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         if interactive {
             let _ = multi.println(line);
         } else {
-            println!("{line}");
+            super::say(&line);
         }
     };
     let total_work: f64 = todo.iter().map(|j| j.params.estimated_work()).sum();

@@ -188,6 +188,7 @@ pub struct SpecError {
 impl fmt::Display for SpecError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.origin {
+            Origin::File { path, line: 0, .. } => write!(f, "{}: ", path.display())?,
             Origin::File { path, line, col } => write!(f, "{}:{line}:{col}: ", path.display())?,
             Origin::Override(arg) => write!(f, "--set {arg}: ")?,
         }
