@@ -442,3 +442,43 @@ fn a_closed_stdout_does_not_stop_a_run() {
     }
     assert!(dirs.tables.join("jobs.parquet").exists());
 }
+
+/// results/README.md documents every column of every table of every engine, and names no
+/// column that no table has.
+#[test]
+fn results_readme_documents_every_column() {
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("results/README.md"))
+            .unwrap();
+    // names in the first cell of table rows: `| name | type | meaning |`, several names
+    // separated by ", "
+    let documented: Vec<String> = doc
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| column") && !l.starts_with("| ---"))
+        .filter_map(|l| l.split('|').nth(1))
+        .flat_map(|cell| {
+            cell.split(", ")
+                .map(|n| n.trim().trim_matches('`').to_string())
+        })
+        .filter(|n| !n.is_empty())
+        .collect();
+    let mut all: Vec<String> = Vec::new();
+    for engine in registry::ENGINES {
+        for (table, columns) in granflow::sweep::tables::schema(engine).unwrap() {
+            for c in columns {
+                assert!(
+                    documented.contains(&c),
+                    "results/README.md does not document {table}.parquet column `{c}` ({} engine)",
+                    engine.name
+                );
+                all.push(c);
+            }
+        }
+    }
+    for d in &documented {
+        assert!(
+            all.contains(d),
+            "results/README.md documents `{d}`, which no table has"
+        );
+    }
+}

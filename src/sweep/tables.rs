@@ -52,6 +52,22 @@ pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
         .collect()
 }
 
+/// The tables an engine's sweeps write and their columns, in order (the schema is fixed by the
+/// declarations: the same whether no job or every job is done).
+pub fn schema(engine: &EngineDef) -> anyhow::Result<Vec<(String, Vec<String>)>> {
+    let names = |df: &DataFrame| {
+        df.get_column_names()
+            .iter()
+            .map(|n| n.to_string())
+            .collect::<Vec<_>>()
+    };
+    let mut out = vec![("jobs".to_string(), names(&jobs_frame(engine, &[])?))];
+    for table in engine.analysis.tables() {
+        out.push((table.name.to_string(), names(&rows_frame(table, &[])?)));
+    }
+    Ok(out)
+}
+
 /// Write the tables of a sweep into its tables directory: `jobs.parquet` and the row tables
 /// of its engine's analysis.
 pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> {
