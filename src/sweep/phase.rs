@@ -102,12 +102,17 @@ impl Cell {
             }
         }
         merged.sort_by(|a, b| b.1.total_cmp(&a.1));
-        let (top, p) = merged[0].clone();
+        let (top, mut p) = merged[0].clone();
+        // a single replica of an analysis without per-snapshot labels has no probability
+        let measured = steady.len() > 1 || steady.iter().any(|j| !j.probabilities.is_empty());
         let (label, humps) = if p >= crate::analysis::labels::CLEAR_MAJORITY {
             split_key(&top)
         } else {
             ("mixed".to_string(), 0)
         };
+        if !measured {
+            p = f64::NAN;
+        }
         Some(CellVerdict {
             label,
             humps,
@@ -133,6 +138,9 @@ impl Cell {
                         .collect::<Vec<_>>()
                         .join("/")
                 ),
+                _ if v.probability.is_nan() => {
+                    crate::analysis::labels::label_key(&v.label, v.humps)
+                }
                 _ => format!(
                     "{}[{:.2}]",
                     crate::analysis::labels::label_key(&v.label, v.humps),
