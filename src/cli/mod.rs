@@ -51,6 +51,15 @@ pub const EXIT_BAD_INPUT: u8 = 2;
 /// Parse the command line, run the command, report errors with their cause chain.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // A report piped into `head` ends quietly when the reader goes (the Unix default, which
+    // Rust turns off). Not for `run` and `slurm`: a run must go on writing its results
+    // whatever happens to its output, so it ignores a closed pipe instead.
+    if !matches!(cli.command, Command::Run(_) | Command::Slurm(_)) {
+        // SAFETY: restoring the default disposition of SIGPIPE before any thread starts
+        unsafe {
+            libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+        }
+    }
     let result = match cli.command {
         Command::Sim(args) => sim::run(args),
         Command::Engines(args) => engines::run(args),
