@@ -53,7 +53,7 @@ fn recorded_balances_obey_the_exact_identities_and_are_one_when_steady() {
     );
     let sweep = load_sweep(&file, &[]).unwrap();
     let job = &sweep.plan[0];
-    let jd = dir.join("job");
+    let jd = dir.join("job").join(&job.id.0);
     store::init_job_dir(&jd, job).unwrap();
     let result = finish(job, &jd);
     let cp = store::read_checkpoint(&jd).unwrap().unwrap();
@@ -116,6 +116,7 @@ fn deterministic(mut r: store::JobResult) -> String {
     r.events_per_second = 0.0;
     r.provenance.started.clear();
     r.provenance.finished.clear();
+    r.checksum.clear();
     ron::to_string(&r).unwrap()
 }
 
@@ -128,7 +129,7 @@ fn run_until_steady_stops_at_the_same_snapshot_when_interrupted() {
     let sweep = load_sweep(&file, &[]).unwrap();
     let job = &sweep.plan[0];
     let run_in = |sub: &str, stops: &[u32]| -> store::JobResult {
-        let jd = dir.join(sub);
+        let jd = dir.join(sub).join(&job.id.0);
         store::init_job_dir(&jd, job).unwrap();
         for &stop in stops {
             let claim = store::try_claim(&jd, false).unwrap().unwrap();

@@ -65,7 +65,8 @@ fn shipped_sweep_ids_are_pinned() {
 /// that binary wrote (new columns may follow).
 #[test]
 fn pre_registry_files_still_read() {
-    let old = fixtures().join("pre-registry-job");
+    let fixture = fixtures().join("pre-registry-job");
+    let old = fixture.join("3b8f366cc0133d90");
     let old_result = store::read_result(&old).expect("an old result.ron reads");
     assert_eq!(old_result.engine, "edmd");
     assert!(old_result.counters.get("pair_collisions") > 0);
@@ -78,7 +79,7 @@ fn pre_registry_files_still_read() {
     let engine = granflow::engine::restore(&cp.engine).expect("old engine bytes restore");
     assert_eq!(engine.def().name, "edmd");
 
-    let sweep = load_sweep(&old.join("tiny.ron"), &[]).unwrap();
+    let sweep = load_sweep(&fixture.join("tiny.ron"), &[]).unwrap();
     let job = &sweep.plan[0];
     assert_eq!(job.id.0, "3b8f366cc0133d90");
     let dir = scratch("pre-registry");
@@ -89,12 +90,12 @@ fn pre_registry_files_still_read() {
             JobEnd::Stopped => panic!("not finished"),
         }
     };
-    let resumed = dir.join("resumed");
+    let resumed = dir.join("resumed").join(&job.id.0);
     std::fs::create_dir_all(&resumed).unwrap();
     for f in ["params.json", "checkpoint.bin"] {
         std::fs::copy(old.join(f), resumed.join(f)).unwrap();
     }
-    let fresh = dir.join("fresh");
+    let fresh = dir.join("fresh").join(&job.id.0);
     store::init_job_dir(&fresh, job).unwrap();
     let (resumed, fresh) = (finish(&resumed), finish(&fresh));
     // the engine's trajectory is the old binary's, bit for bit, resumed or afresh (the
@@ -130,7 +131,7 @@ fn pre_registry_files_still_read() {
     let results = dir.join("results");
     let out = granflow(&[
         "run",
-        old.join("tiny.ron").to_str().unwrap(),
+        fixture.join("tiny.ron").to_str().unwrap(),
         "--results",
         results.to_str().unwrap(),
         "--threads",
@@ -146,7 +147,7 @@ fn pre_registry_files_still_read() {
             let mut file = std::fs::File::open(&path).unwrap();
             ParquetReader::new(&mut file).schema().unwrap()
         };
-        let was = schema(old.join(format!("{table}.parquet")));
+        let was = schema(fixture.join(format!("{table}.parquet")));
         let now = schema(results.join(format!("tiny/{table}.parquet")));
         let names = |s: &ArrowSchema| s.iter_names().map(|n| n.to_string()).collect::<Vec<_>>();
         let (now_names, was_names) = (names(&now), names(&was));

@@ -389,6 +389,7 @@ fn deterministic_part(dir: &Path) -> String {
     r.events_per_second = 0.0;
     r.provenance.started.clear();
     r.provenance.finished.clear();
+    r.checksum.clear();
     ron::to_string(&r).unwrap()
 }
 
@@ -411,7 +412,7 @@ fn resumed_job_is_bitwise_identical() {
     let sweep = load_sweep(&file, &[]).unwrap();
     let job = &sweep.plan[0];
     let run_in = |sub: &str, stops: &[u32]| -> PathBuf {
-        let jd = dir.join(sub);
+        let jd = dir.join(sub).join(&job.id.0);
         queue::init_job_dir(&jd, job).unwrap();
         for &stop in stops {
             let claim = queue::try_claim(&jd, false).unwrap().unwrap();
@@ -662,22 +663,24 @@ fn two_runners_never_run_the_same_job() {
 #[test]
 fn failed_job_is_recorded_and_retried() {
     let dir = scratch("failed");
+    // the point stalls (perfectly inelastic smooth spheres without the TC model collapse)
     let file = write(
         &dir,
         "proc.ron",
         &sweep_text(
             "",
-            "        length_over_width: [1.0, 2.0],\n",
-            "",
-            100.0,
+            "        length_over_width: [1.0, 3.0],\n",
+            "    points: [(length_over_width: 2.0, restitution: 0.0, tc: 0.0, wall_restitution: 0.0,\n        roughness: -1.0, wall_roughness: -1.0)],\n",
+            1000.0,
             50.0,
         ),
     );
     let results = dir.join("results");
     let sweep = load_sweep(&file, &[]).unwrap();
-    let bad = results.join("proc/jobs").join(&sweep.plan[1].id.0);
-    std::fs::create_dir_all(&bad).unwrap();
-    std::fs::write(bad.join(queue::CHECKPOINT_FILE), b"not a checkpoint").unwrap();
+    let job = |i: usize| results.join("proc/jobs").join(&sweep.plan[i].id.0);
+    let (good, damaged, stalling) = (job(0), job(1), job(2));
+    std::fs::create_dir_all(&damaged).unwrap();
+    std::fs::write(damaged.join(queue::CHECKPOINT_FILE), b"not a checkpoint").unwrap();
     let run = |extra: &[&str]| granflow(&run_args(&file, &results, extra));
     let out = run(&[]);
     assert_eq!(
@@ -685,30 +688,42 @@ fn failed_job_is_recorded_and_retried() {
         Some(1),
         "a run with failed jobs exits with 1"
     );
-    let good = results.join("proc/jobs").join(&sweep.plan[0].id.0);
     assert!(
         good.join(queue::RESULT_FILE).exists(),
         "the other job went on"
     );
-    let failure = std::fs::read_to_string(bad.join(queue::FAILED_FILE)).unwrap();
-    assert!(failure.contains("checksum"), "{failure}");
+    let failure = std::fs::read_to_string(stalling.join(queue::FAILED_FILE)).unwrap();
+    assert!(failure.contains("stalled"), "{failure}");
     let status = granflow(&["status", results.join("proc").to_str().unwrap()]);
     let text = String::from_utf8_lossy(&status.stdout);
     assert!(
-        text.contains("failed 1") && text.contains("checksum"),
+        text.contains("failed 1") && text.contains("damaged 1") && text.contains("checksum"),
         "{text}"
     );
-    // without --retry-failed the failed job is skipped, with it it runs
-    std::fs::remove_file(bad.join(queue::CHECKPOINT_FILE)).unwrap();
+    // without --retry-failed neither is run again, and the damaged file stays where it is
     assert_eq!(run(&[]).status.code(), Some(1));
-    assert!(!bad.join(queue::RESULT_FILE).exists());
-    let out = run(&["--retry-failed"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    assert!(!damaged.join(queue::RESULT_FILE).exists());
+    assert_eq!(
+        std::fs::read(damaged.join(queue::CHECKPOINT_FILE)).unwrap(),
+        b"not a checkpoint"
     );
-    assert!(bad.join(queue::RESULT_FILE).exists() && !bad.join(queue::FAILED_FILE).exists());
+    // with it the damaged checkpoint is set aside (renamed, not deleted) and the job runs
+    // afresh; the failed job runs again (and stalls again: exit code 1)
+    assert_eq!(run(&["--retry-failed"]).status.code(), Some(1));
+    assert!(damaged.join(queue::RESULT_FILE).exists());
+    let aside: Vec<_> = std::fs::read_dir(&damaged)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("checkpoint.bin.damaged-"))
+        .collect();
+    assert_eq!(aside.len(), 1, "{aside:?}");
+    assert_eq!(
+        std::fs::read(damaged.join(&aside[0])).unwrap(),
+        b"not a checkpoint"
+    );
+    assert!(stalling.join(queue::FAILED_FILE).exists());
+    let log = std::fs::read_to_string(stalling.join(queue::LOG_FILE)).unwrap();
+    assert_eq!(event_count(&log, "failed:"), 2, "{log}");
 
     // the phase diagram of the finished sweep: a strip over L/W, PNG and SVG, and bad axes
     let out = granflow(&[
@@ -731,7 +746,7 @@ fn failed_job_is_recorded_and_retried() {
         .lines()
         .find(|l| l.trim_start().starts_with("structure"))
         .unwrap();
-    assert_eq!(row.split_whitespace().count(), 3, "{text}");
+    assert_eq!(row.split_whitespace().count(), 4, "{text}");
     let out = granflow(&[
         "phase-diagram",
         results.join("proc").to_str().unwrap(),

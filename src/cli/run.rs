@@ -85,7 +85,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     };
     let summary = run_sweep(&sweep, &dirs, &opts)?;
     let jobs = tables::collect(&sweep, &dirs);
-    let failed: Vec<_> = jobs.iter().filter(|j| j.state.name() == "failed").collect();
+    let failed: Vec<_> = jobs
+        .iter()
+        .filter(|j| matches!(j.state.name(), "failed" | "damaged"))
+        .collect();
     let failures = failed.len();
     if !failed.is_empty() {
         say!(
@@ -94,8 +97,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             dirs.tables.display()
         );
         for j in &failed {
-            if let crate::sweep::store::JobState::Failed(e) = &j.state {
-                say!("  {} [{}]: {e}", j.job.id, j.job.index);
+            match &j.state {
+                crate::sweep::store::JobState::Failed(e) => {
+                    say!("  {} [{}]: {e}", j.job.id, j.job.index)
+                }
+                crate::sweep::store::JobState::Damaged { reason, .. } => {
+                    say!("  {} [{}]: damaged: {reason}", j.job.id, j.job.index)
+                }
+                _ => {}
             }
         }
     }

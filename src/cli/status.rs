@@ -22,12 +22,13 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
         dirs.tables.display()
     );
     println!(
-        "  done {}  running {}  partial {}  pending {}  failed {}",
+        "  done {}  running {}  partial {}  pending {}  failed {}  damaged {}",
         count("done"),
         count("running"),
         count("partial"),
         count("pending"),
-        count("failed")
+        count("failed"),
+        count("damaged")
     );
     for j in &jobs {
         let run = &j.job.params.run;
@@ -74,6 +75,9 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
             }
             JobState::Pending => "pending".to_string(),
             JobState::Failed(e) => format!("FAILED   {e}"),
+            JobState::Damaged { reason, .. } => {
+                format!("DAMAGED  {reason} (set aside and recomputed by `run --retry-failed`)")
+            }
         };
         println!("  [{:>3}] {}  {line}", j.job.index, j.job.id);
     }

@@ -92,6 +92,9 @@ impl SweepLink for RunnerLink {
                 |id| match store::job_state(&dirs.job_dir(&JobId(id.clone()))) {
                     store::JobState::Done => JobDirState::Done,
                     store::JobState::Failed(e) => JobDirState::Failed(e),
+                    store::JobState::Damaged { reason, .. } => {
+                        JobDirState::Failed(format!("damaged: {reason}"))
+                    }
                     _ => JobDirState::Unfinished,
                 },
             )

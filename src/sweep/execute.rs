@@ -74,6 +74,7 @@ pub fn run_job(
             store::write_checkpoint(
                 dir,
                 &JobCheckpoint::new(
+                    &job.id.0,
                     0,
                     engine.checkpoint(),
                     &log,
@@ -117,6 +118,7 @@ pub fn run_job(
             store::write_checkpoint(
                 dir,
                 &JobCheckpoint::new(
+                    &job.id.0,
                     k,
                     engine.checkpoint(),
                     &log,
@@ -161,6 +163,7 @@ pub fn run_job(
         events_per_second: snap.progress.events as f64 / wall_seconds.max(1e-9),
         stop_reason,
         provenance,
+        checksum: String::new(),
         analysis,
     })))
 }

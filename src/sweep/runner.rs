@@ -83,9 +83,13 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     for job in &selected {
         let dir = dirs.job_dir(&job.id);
         store::init_job_dir(&dir, job)?;
-        match store::job_state(&dir) {
+        // with --retry-failed, done results are read and checked too (damaged ones are then
+        // set aside and recomputed)
+        match store::job_state_checked(&dir, opts.retry_failed) {
             JobState::Done => summary.already_done += 1,
-            JobState::Failed(_) if !opts.retry_failed => summary.skipped_failed += 1,
+            JobState::Failed(_) | JobState::Damaged { .. } if !opts.retry_failed => {
+                summary.skipped_failed += 1
+            }
             _ => todo.push(*job),
         }
     }
@@ -201,6 +205,13 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                                 busy.fetch_add(1, Ordering::Relaxed);
                                 say(format!(
                                     "busy    {} [{}]: held by another runner",
+                                    job.id, job.index
+                                ));
+                                continue;
+                            }
+                            Ok(Err(NotClaimed::Damaged(reason))) => {
+                                say(format!(
+                                    "damaged {} [{}]: {reason} (rerun with --retry-failed)",
                                     job.id, job.index
                                 ));
                                 continue;

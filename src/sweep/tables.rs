@@ -40,7 +40,10 @@ pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
                 match store::read_result(&dir) {
                     Ok(r) => Some(r),
                     Err(e) => {
-                        state = JobState::Failed(format!("unreadable result: {e:#}"));
+                        state = JobState::Damaged {
+                            file: store::RESULT_FILE,
+                            reason: format!("{e:#}"),
+                        };
                         None
                     }
                 }
@@ -255,6 +258,7 @@ fn jobs_frame(engine: &EngineDef, jobs: &[GatheredJob]) -> anyhow::Result<DataFr
         jobs.iter()
             .map(|j| match &j.state {
                 JobState::Failed(e) => Some(e.clone()),
+                JobState::Damaged { reason, .. } => Some(reason.clone()),
                 _ => None,
             })
             .collect::<Vec<_>>(),

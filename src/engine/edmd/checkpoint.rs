@@ -9,9 +9,11 @@ use serde::{Deserialize, Serialize};
 
 /// The name the envelope carries.
 pub const ENGINE: &str = "edmd";
-/// Version of the payload layout; bump it when `EngineState` changes (version 1 lacked
-/// `suppressed_dissipation`; it still reads, with that total unknown: NaN).
-pub const FORMAT_VERSION: u32 = 2;
+/// Version of the payload layout; bump it when `EngineState` changes. Version 1 (before this
+/// one) lacked `suppressed_dissipation` and `stall_window`; it still reads, with the
+/// suppressed total unknown (NaN) and the stall window starting at the checkpoint. (Version 2
+/// existed only between commits of one session and is not read.)
+pub const FORMAT_VERSION: u32 = 3;
 
 /// Event counters of a run (cumulative since the start of the run, kept across checkpoints).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -58,6 +60,8 @@ pub struct EngineState {
     /// cumulative energy the TC model kept from being dissipated (NaN: unknown, for runs
     /// resumed from a version-1 checkpoint)
     pub suppressed_dissipation: f64,
+    /// start of the current stall-check window: (event count, simulated time)
+    pub stall_window: (u64, f64),
 }
 
 /// The payload of format version 1 (frozen: it decodes checkpoints written before the TC
@@ -114,12 +118,13 @@ pub fn decode_payload(version: u32, payload: &[u8]) -> Result<EngineState, Engin
                 dissipated: v1.dissipated,
                 gravity_work: v1.gravity_work,
                 suppressed_dissipation: f64::NAN,
+                stall_window: (v1.counters.events, v1.now),
             }
         }
         FORMAT_VERSION => postcard::from_bytes(payload).map_err(undecodable)?,
         _ => {
             return fail(format!(
-                "format version {version}, this granflow reads versions 1 to {FORMAT_VERSION}"
+                "format version {version}, this granflow reads versions 1 and {FORMAT_VERSION}"
             ));
         }
     };

@@ -27,6 +27,8 @@ pub struct JobCheckpoint {
     pub wall_seconds: f64,
     /// the engine's clocks at snapshot k
     pub progress: crate::engine::Progress,
+    /// the job it belongs to (a checkpoint copied into another job's directory is refused)
+    pub job_id: String,
     /// the records of a format-1 checkpoint, which held them itself
     #[serde(skip)]
     pub legacy_records: Option<Vec<Record>>,
@@ -92,8 +94,10 @@ impl From<SnapshotRecordV1> for SnapshotRecord {
 }
 
 impl JobCheckpoint {
-    /// A checkpoint in the current format, covering the record log up to `log`'s position.
+    /// A checkpoint of job `job_id` in the current format, covering the record log up to
+    /// `log`'s position.
     pub fn new(
+        job_id: &str,
         snapshot: u32,
         engine: Vec<u8>,
         log: &super::RecordLog,
@@ -109,6 +113,7 @@ impl JobCheckpoint {
             records_bytes,
             wall_seconds,
             progress,
+            job_id: job_id.to_string(),
             legacy_records: None,
         }
     }
@@ -160,6 +165,7 @@ pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
                 records: records.len() as u64,
                 records_bytes: 0,
                 wall_seconds: v1.wall_seconds,
+                job_id: String::new(),
                 legacy_records: Some(records),
             }
         }
@@ -169,6 +175,9 @@ pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
             path.display()
         ),
     };
+    if !cp.job_id.is_empty() {
+        super::check_owner(dir, &cp.job_id, &path)?;
+    }
     Ok(Some(cp))
 }
 

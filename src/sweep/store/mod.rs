@@ -50,6 +50,8 @@ pub enum JobState {
     Done,
     /// failed with this error
     Failed(String),
+    /// a file of the job is damaged or belongs to another job: which file and why
+    Damaged { file: &'static str, reason: String },
 }
 
 impl JobState {
@@ -61,6 +63,7 @@ impl JobState {
             JobState::Running => "running",
             JobState::Done => "done",
             JobState::Failed(_) => "failed",
+            JobState::Damaged { .. } => "damaged",
         }
     }
 }
@@ -92,7 +95,13 @@ pub fn init_job_dir(dir: &Path, job: &PlannedJob) -> std::io::Result<()> {
 /// The state of the job in `dir`, from its files and lock alone (a missing dir is pending).
 /// Probing the lock takes it for an instant when it is free.
 pub fn job_state(dir: &Path) -> JobState {
-    if dir.join(RESULT_FILE).exists() {
+    job_state_checked(dir, false)
+}
+
+/// As [`job_state`], reading and checking a result (`verify`) instead of trusting its presence:
+/// a damaged or misplaced result makes the job damaged.
+pub fn job_state_checked(dir: &Path, verify: bool) -> JobState {
+    if !verify && dir.join(RESULT_FILE).exists() {
         return JobState::Done;
     }
     if let Ok(f) = OpenOptions::new().write(true).open(dir.join(LOCK_FILE))
@@ -100,21 +109,53 @@ pub fn job_state(dir: &Path) -> JobState {
     {
         return JobState::Running;
     }
-    state_unlocked(dir)
+    state_unlocked(dir, verify)
 }
 
-/// The state ignoring the lock (what a runner that holds the lock sees).
-fn state_unlocked(dir: &Path) -> JobState {
+/// The state ignoring the lock (what a runner that holds the lock sees). A result counts as
+/// done by its presence unless `verify` asks to read and check it; a checkpoint that cannot
+/// be read makes the job damaged.
+fn state_unlocked(dir: &Path, verify: bool) -> JobState {
     if dir.join(RESULT_FILE).exists() {
+        if verify && let Err(e) = read_result(dir) {
+            return JobState::Damaged {
+                file: RESULT_FILE,
+                reason: format!("{e:#}"),
+            };
+        }
         return JobState::Done;
     }
     if let Ok(err) = std::fs::read_to_string(dir.join(FAILED_FILE)) {
         return JobState::Failed(err.trim().to_string());
     }
-    match checkpoint_progress(dir) {
-        Some(progress) => JobState::Partial(progress),
-        None => JobState::Pending,
+    match read_checkpoint(dir) {
+        Ok(Some(cp)) => JobState::Partial(cp.progress),
+        Ok(None) => JobState::Pending,
+        Err(e) => JobState::Damaged {
+            file: CHECKPOINT_FILE,
+            reason: format!("{e:#}"),
+        },
     }
+}
+
+/// A file that names another job than its directory's is misplaced.
+fn check_owner(dir: &Path, owner: &str, path: &Path) -> anyhow::Result<()> {
+    let here = dir.file_name().map(|n| n.to_string_lossy().into_owned());
+    anyhow::ensure!(
+        here.as_deref() == Some(owner),
+        "{}: belongs to job {owner}, not to {} (copied from another job?)",
+        path.display(),
+        here.unwrap_or_default()
+    );
+    Ok(())
+}
+
+/// Move a damaged file aside, never deleting it: `<name>.damaged-<UTC time>`. Returns its new
+/// path.
+pub fn set_aside(dir: &Path, file: &str) -> std::io::Result<PathBuf> {
+    let to = dir.join(format!("{file}.damaged-{}", crate::provenance::now()));
+    std::fs::rename(dir.join(file), &to)?;
+    Ok(to)
 }
 
 /// An exclusive claim on a job; released when dropped (or when the process dies).
@@ -133,6 +174,8 @@ pub enum NotClaimed {
     Done,
     /// failed earlier (and retrying was not asked for)
     Failed(String),
+    /// a file is damaged or misplaced (and retrying was not asked for)
+    Damaged(String),
 }
 
 /// Try to claim the job in `dir` (non-blocking). The state is re-read under the lock, so a job
@@ -159,7 +202,21 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
             Err(std::fs::TryLockError::Error(e)) => return Err(e),
         }
     }
-    match state_unlocked(dir) {
+    // with --retry-failed a damaged result is found here too (and set aside); a damaged
+    // checkpoint is found anyway. A job with a damaged checkpoint restarts from scratch.
+    let mut state = state_unlocked(dir, retry_failed);
+    while let JobState::Damaged { file, reason } = &state {
+        if !retry_failed {
+            return Ok(Err(NotClaimed::Damaged(reason.clone())));
+        }
+        let to = set_aside(dir, file)?;
+        log(
+            dir,
+            &format!("set aside {} as {}: {reason}", file, to.display()),
+        )?;
+        state = state_unlocked(dir, true);
+    }
+    match state {
         JobState::Done => Ok(Err(NotClaimed::Done)),
         JobState::Failed(e) if !retry_failed => Ok(Err(NotClaimed::Failed(e))),
         JobState::Failed(_) => {

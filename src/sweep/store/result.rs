@@ -37,6 +37,11 @@ pub struct JobResult {
     /// which code made it, where and when (results of older builds: empty, versions 0)
     #[serde(default)]
     pub provenance: crate::provenance::Provenance,
+    /// SHA-256 (first 16 hex digits) of the file's text written with this field empty; a
+    /// result whose text does not match is damaged (results of older builds: empty, not
+    /// checked)
+    #[serde(default)]
+    pub checksum: String,
     /// the analysis
     pub analysis: Analysis,
 }
@@ -56,16 +61,43 @@ fn edmd() -> String {
     "edmd".into()
 }
 
-/// Read a finished job's result.
-pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
-    let path = dir.join(RESULT_FILE);
-    let text = std::fs::read_to_string(&path)?;
-    ron::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+/// The text of a result with its checksum field empty, and the checksum of that text.
+fn text_and_checksum(result: &JobResult) -> anyhow::Result<(String, String)> {
+    let mut blank = result.clone();
+    blank.checksum.clear();
+    let text = ron::ser::to_string_pretty(&blank, ron::ser::PrettyConfig::default())?;
+    let sum = crate::sweep::job::id_of_canonical(&text).0;
+    Ok((text, sum))
 }
 
-/// Write a job's result atomically (this marks it done).
+/// Read a finished job's result and check that it is this job's and undamaged: it must parse,
+/// carry the id of its directory, and (when it has one) match its checksum.
+pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
+    let path = dir.join(RESULT_FILE);
+    let text =
+        std::fs::read_to_string(&path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let result: JobResult =
+        ron::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    super::check_owner(dir, &result.id, &path)?;
+    if !result.checksum.is_empty() {
+        let (_, sum) = text_and_checksum(&result)?;
+        anyhow::ensure!(
+            sum == result.checksum,
+            "{}: checksum mismatch (the file was changed after it was written)",
+            path.display()
+        );
+    }
+    Ok(result)
+}
+
+/// Write a job's result atomically (this marks it done), with its checksum.
 pub fn write_result(dir: &Path, result: &JobResult) -> anyhow::Result<()> {
-    let text = ron::ser::to_string_pretty(result, ron::ser::PrettyConfig::default())?;
+    let (_, sum) = text_and_checksum(result)?;
+    let sealed = JobResult {
+        checksum: sum,
+        ..result.clone()
+    };
+    let text = ron::ser::to_string_pretty(&sealed, ron::ser::PrettyConfig::default())?;
     write_atomic(&dir.join(RESULT_FILE), text.as_bytes())?;
     Ok(())
 }

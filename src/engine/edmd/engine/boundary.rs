@@ -24,6 +24,7 @@ impl EdmdEngine {
             dissipated: self.dissipated,
             gravity_work: self.gravity_work,
             suppressed_dissipation: self.suppressed_dissipation,
+            stall_window: self.stall_window,
         }
     }
 }
@@ -58,9 +59,6 @@ impl Engine for EdmdEngine {
     }
 
     fn advance(&mut self, stop: StopAt) -> Result<(), EngineError> {
-        let window = self.stall_window();
-        let mut window_end = self.counters.events + window;
-        let mut window_start_time = self.now;
         match stop {
             StopAt::Steps(_) => return Err(self.def().clock_error(stop.clock())),
             StopAt::CollisionsPerParticle(target) => {
@@ -69,11 +67,7 @@ impl Engine for EdmdEngine {
                     if !self.step() {
                         break;
                     }
-                    if self.counters.events >= window_end {
-                        self.stall_check(window_start_time)?;
-                        window_end += window;
-                        window_start_time = self.now;
-                    }
+                    self.stall_check()?;
                 }
             }
             StopAt::Time(t_stop) => {
@@ -82,11 +76,7 @@ impl Engine for EdmdEngine {
                         break;
                     }
                     self.step();
-                    if self.counters.events >= window_end {
-                        self.stall_check(window_start_time)?;
-                        window_end += window;
-                        window_start_time = self.now;
-                    }
+                    self.stall_check()?;
                 }
                 if t_stop > self.now {
                     self.now = t_stop;

@@ -171,6 +171,9 @@ pub struct EdmdEngine {
     /// cumulative energy the TC model kept from being dissipated: (1 - e^2) g_n^2 / 4 of
     /// every collision it made elastic (what constant e would have dissipated in addition)
     suppressed_dissipation: f64,
+    /// start of the current stall-check window: (event count, simulated time); windows run
+    /// across snapshots and checkpoints, so frequent snapshots cannot hide a collapse
+    stall_window: (u64, f64),
     /// cumulative work of gravity, m g sum of x-displacements
     gravity_work: f64,
     /// true directly after a snapshot: the state is synchronised and a checkpoint is valid
@@ -205,6 +208,7 @@ impl EdmdEngine {
             dissipated: 0.0,
             gravity_work: 0.0,
             suppressed_dissipation: 0.0,
+            stall_window: (0, 0.0),
         };
         Ok(Self::from_state(state, search))
     }
@@ -312,6 +316,7 @@ impl EdmdEngine {
             wall_momentum: state.wall_momentum,
             dissipated: state.dissipated,
             suppressed_dissipation: state.suppressed_dissipation,
+            stall_window: state.stall_window,
             gravity_work: state.gravity_work,
             synchronised: true,
             log: None,

@@ -3,10 +3,18 @@
 use super::*;
 
 impl EdmdEngine {
-    /// Stall check: a window of 100 events per particle that covers less simulated time than
-    /// the TC time t_c (or 1e-9 without the TC model) means inelastic collapse.
-    pub(super) fn stall_check(&self, window_start_time: f64) -> Result<(), EngineError> {
-        let span = self.now - window_start_time;
+    /// Stall check, after every event: a window of 100 events per particle that covers less
+    /// simulated time than the TC time t_c (or 1e-9 without the TC model) means inelastic
+    /// collapse. Windows follow each other through the run (across snapshots and
+    /// checkpoints: they are part of the state).
+    #[inline]
+    pub(super) fn stall_check(&mut self) -> Result<(), EngineError> {
+        let (start_events, start_time) = self.stall_window;
+        if self.counters.events < start_events + self.stall_window() {
+            return Ok(());
+        }
+        self.stall_window = (self.counters.events, self.now);
+        let span = self.now - start_time;
         let floor = if self.params.tc > 0.0 {
             self.params.tc
         } else {

@@ -1,0 +1,128 @@
+//! The job store cannot be fooled (issue 13): files copied from another job or edited after
+//! they were written are detected, shown as damaged, set aside (renamed, never deleted) and
+//! recomputed by `--retry-failed`, from the job's own checkpoint where it has one.
+
+use granflow::sweep::{load_sweep, store};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_granflow");
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("store-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn granflow(args: &[&str]) -> Output {
+    Command::new(BIN).args(args).output().unwrap()
+}
+
+/// The comparable part of a result: everything except wall-clock figures and times.
+fn deterministic(mut r: store::JobResult) -> String {
+    r.wall_seconds = 0.0;
+    r.events_per_second = 0.0;
+    r.provenance.started.clear();
+    r.provenance.finished.clear();
+    r.checksum.clear();
+    ron::to_string(&r).unwrap()
+}
+
+fn files_named(dir: &Path, prefix: &str) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(prefix))
+        .collect()
+}
+
+#[test]
+fn misplaced_and_edited_files_are_detected_set_aside_and_recomputed() {
+    let dir = scratch("misplaced");
+    let file = dir.join("s.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0, 3.0]), run: (collisions_per_particle: 200, snapshot_interval: 20))",
+    )
+    .unwrap();
+    let results = dir.join("results");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        granflow(&args)
+    };
+    assert!(run(&[]).status.success());
+    let sweep = load_sweep(&file, &[]).unwrap();
+    let dirs = sweep.results_dir(&results);
+    let jd: Vec<PathBuf> = sweep.plan.iter().map(|j| dirs.job_dir(&j.id)).collect();
+    let good: Vec<String> = jd
+        .iter()
+        .map(|d| deterministic(store::read_result(d).unwrap()))
+        .collect();
+
+    // job 1 gets job 0's result; job 2's result is edited; job 0 gets job 2's checkpoint
+    std::fs::copy(
+        jd[0].join(store::RESULT_FILE),
+        jd[1].join(store::RESULT_FILE),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(jd[2].join(store::RESULT_FILE)).unwrap();
+    let edited = text.replacen("label: \"", "label: \"plug-", 1);
+    assert!(edited != text, "nothing edited");
+    std::fs::write(jd[2].join(store::RESULT_FILE), edited).unwrap();
+    std::fs::remove_file(jd[0].join(store::RESULT_FILE)).unwrap();
+    std::fs::copy(
+        jd[2].join(store::CHECKPOINT_FILE),
+        jd[0].join(store::CHECKPOINT_FILE),
+    )
+    .unwrap();
+
+    let status = granflow(&["status", dirs.tables.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&status.stdout);
+    assert!(text.contains("damaged 3"), "{text}");
+    assert!(text.contains("belongs to job"), "{text}");
+    assert!(text.contains("checksum mismatch"), "{text}");
+
+    // without --retry-failed nothing is touched and the run says so (exit 1)
+    let out = run(&[]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("damaged"));
+    // with it: set aside, recomputed; each job ends with its own result again
+    let out = run(&["--retry-failed"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    for (i, d) in jd.iter().enumerate() {
+        assert_eq!(
+            deterministic(store::read_result(d).unwrap()),
+            good[i],
+            "job {i}"
+        );
+    }
+    assert_eq!(files_named(&jd[0], "checkpoint.bin.damaged-").len(), 1);
+    assert_eq!(files_named(&jd[1], "result.ron.damaged-").len(), 1);
+    assert_eq!(files_named(&jd[2], "result.ron.damaged-").len(), 1);
+    // jobs 1 and 2 were recomputed from their own (good) checkpoints: resumed, not restarted
+    for d in &jd[1..] {
+        let log = std::fs::read_to_string(d.join(store::LOG_FILE)).unwrap();
+        let events = store::log_events(&log);
+        assert!(
+            events.iter().any(|e| e.starts_with("set aside result.ron")),
+            "{log}"
+        );
+        assert!(events.iter().any(|e| e.starts_with("resume")), "{log}");
+        assert_eq!(
+            events.iter().filter(|e| e.starts_with("start")).count(),
+            1,
+            "{log}"
+        );
+    }
+}
