@@ -24,9 +24,14 @@ pub struct RunArgs {
     /// override a fixed value or an axis: key=value or key=v1,v2,... (repeatable)
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// only jobs whose plan index (order of `granflow plan`) lies in [START, END)
+    /// only jobs whose plan index (order of `granflow plan`) lies in [START, END); with
+    /// --job-ids, the lines [START, END) of that file
     #[arg(long, value_name = "START:END")]
     pub job_range: Option<String>,
+    /// run the jobs listed in FILE (one id per line; a Slurm submission writes it) from their
+    /// job directories' params.json, whatever the sweep file says now
+    #[arg(long, value_name = "FILE")]
+    pub job_ids: Option<PathBuf>,
     /// run failed jobs again (from their last checkpoint)
     #[arg(long)]
     pub retry_failed: bool,
@@ -62,16 +67,59 @@ pub fn parse_job_range(text: &str, plan_len: usize) -> Result<(usize, usize), Ba
     Ok((a, b.min(plan_len)))
 }
 
+/// The jobs of an id list (lines [range) of `file`) as a plan, each from its job directory's
+/// `params.json` (positions in the list as plan indices).
+fn plan_of_ids(
+    file: &std::path::Path,
+    range: Option<&str>,
+    dirs: &crate::sweep::SweepDirs,
+) -> anyhow::Result<Vec<crate::sweep::PlannedJob>> {
+    let text = std::fs::read_to_string(file)
+        .map_err(|e| BadInput(format!("--job-ids {}: {e}", file.display())))?;
+    let ids: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    let (a, b) = match range {
+        Some(r) => parse_job_range(r, ids.len())?,
+        None => (0, ids.len()),
+    };
+    ids[a..b]
+        .iter()
+        .enumerate()
+        .map(|(k, id)| {
+            let id = crate::sweep::JobId(id.to_string());
+            let params = crate::sweep::store::read_params(&dirs.job_dir(&id))?;
+            anyhow::ensure!(
+                params.id() == id,
+                "{}: params.json does not give the id {id}",
+                dirs.job_dir(&id).display()
+            );
+            Ok(crate::sweep::PlannedJob {
+                index: a + k,
+                id,
+                params,
+            })
+        })
+        .collect()
+}
+
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    let sweep = load_sweep(&args.sweep, &args.set)?;
-    let job_range = match &args.job_range {
-        Some(t) => Some(parse_job_range(t, sweep.plan.len())?),
-        None => None,
+    let mut sweep = load_sweep(&args.sweep, &args.set)?;
+    crate::sweep::check_results_root(&args.results)?;
+    let by_ids = args.job_ids.is_some();
+    let job_range = match (&args.job_ids, &args.job_range) {
+        (Some(file), range) => {
+            sweep.plan = plan_of_ids(file, range.as_deref(), &sweep.results_dir(&args.results))?;
+            None
+        }
+        (None, Some(t)) => Some(parse_job_range(t, sweep.plan.len())?),
+        (None, None) => None,
     };
     if args.threads == Some(0) {
         return Err(BadInput("--threads 0: allowed a whole number >= 1".into()).into());
     }
-    crate::sweep::check_results_root(&args.results)?;
     let dirs = sweep.results_dir(&args.results);
     let opts = RunOptions {
         threads: args
@@ -81,7 +129,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         job_range,
         // a --job-range run is one slice of a sweep (a Slurm array task): writing the whole
         // sweep's tables from every slice would cost O(jobs) per task; `gather` does it once
-        write_tables: job_range.is_none(),
+        write_tables: job_range.is_none() && !by_ids,
+        write_resolved: !by_ids,
     };
     let summary = run_sweep(&sweep, &dirs, &opts)?;
     let jobs = tables::collect(&sweep, &dirs);
@@ -108,7 +157,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             }
         }
     }
-    if job_range.is_some() {
+    if job_range.is_some() || by_ids {
         say!(
             "slice done; run `granflow gather {}` for the tables and the phase diagram",
             dirs.tables.display()

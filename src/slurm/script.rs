@@ -37,6 +37,9 @@ pub struct ArrayScript {
     pub results_arg: PathBuf,
     /// The resolved sweep file inside the results directory (absolute).
     pub sweep_file: PathBuf,
+    /// The submission's job-id list (absolute): task t runs the ids on its lines
+    /// [t J, (t+1) J), whatever is written into the sweep directory later.
+    pub ids_file: PathBuf,
     /// The granflow executable the tasks run (absolute; on a shared file system).
     pub granflow: PathBuf,
     /// `--set key=value` overrides of the submission: already applied in `sweep_file` (the
@@ -185,6 +188,8 @@ impl ArrayScript {
             shell_quote(&path_str(&self.results_arg)),
             "--threads".to_string(),
             "\"${SLURM_CPUS_PER_TASK:-1}\"".to_string(),
+            "--job-ids".to_string(),
+            shell_quote(&path_str(&self.ids_file)),
             "--job-range".to_string(),
             "\"$FIRST:$END\"".to_string(),
         ];
@@ -242,6 +247,7 @@ mod tests {
             sweep_dir: "/scratch/my results/quick".into(),
             results_arg: "/scratch/my results".into(),
             sweep_file: "/scratch/my results/quick/sweep.ron".into(),
+            ids_file: "/scratch/my results/quick/slurm/scripts/submit0.ids".into(),
             granflow: "/home/u/bin/granflow".into(),
             sets: vec!["restitution=0.9".into(), "note=it's".into()],
             total_jobs: 7,
@@ -330,6 +336,7 @@ mod tests {
             cmd,
             "/home/u/bin/granflow run '/scratch/my results/quick/sweep.ron' \
              --results '/scratch/my results' --threads \"${SLURM_CPUS_PER_TASK:-1}\" \
+             --job-ids '/scratch/my results/quick/slurm/scripts/submit0.ids' \
              --job-range \"$FIRST:$END\""
         );
         assert!(s.contains("# The overrides restitution=0.9 'note=it'\\''s' are applied"));
@@ -371,7 +378,8 @@ mod tests {
             );
             let stdout = String::from_utf8_lossy(&out.stdout);
             let r = super::super::split::task_jobs(chunk.first_task + index, jpt, jobs);
-            let want = format!("--threads 4 --job-range {}:{}", r.start, r.end);
+            let want = format!("--job-range {}:{}", r.start, r.end);
+            assert!(stdout.contains("--job-ids "), "{stdout} lacks --job-ids");
             assert!(stdout.contains(&want), "{stdout} lacks {want}");
             let exit =
                 std::fs::read_to_string(dir.join(format!("slurm/tasks/77_{index}.exit"))).unwrap();

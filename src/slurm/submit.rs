@@ -111,6 +111,15 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
     ] {
         std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     }
+    // the job ids of this submission: tasks run these, by line, even if a later `run` or
+    // `submit` rewrites the sweep directory's resolved sweep
+    let ids_file = slurm_dir
+        .join("scripts")
+        .join(format!("submit{number}.ids"));
+    record::write_atomically(
+        &ids_file,
+        format!("{}\n", sweep.job_ids.join("\n")).as_bytes(),
+    )?;
     let mut scripts = Vec::new();
     for (k, chunk) in chunks.iter().enumerate() {
         let script = ArrayScript {
@@ -118,6 +127,7 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
             sweep_dir: sweep.sweep_dir.clone(),
             results_arg: sweep.results_arg.clone(),
             sweep_file: sweep.sweep_file.clone(),
+            ids_file: ids_file.clone(),
             granflow: granflow.clone(),
             sets: opts.sets.clone(),
             total_jobs: sweep.job_ids.len(),

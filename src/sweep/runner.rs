@@ -23,6 +23,9 @@ pub struct RunOptions {
     pub job_range: Option<(usize, usize)>,
     /// write the tables at the end
     pub write_tables: bool,
+    /// write the resolved sweep into the results directory first (not for Slurm tasks that
+    /// run a submission's job ids: the file is the submission's, written once)
+    pub write_resolved: bool,
 }
 
 impl Default for RunOptions {
@@ -32,6 +35,7 @@ impl Default for RunOptions {
             retry_failed: false,
             job_range: None,
             write_tables: true,
+            write_resolved: true,
         }
     }
 }
@@ -58,8 +62,8 @@ enum Outcome {
     Failed(String),
 }
 
-struct Message {
-    job: usize,
+struct Message<'a> {
+    job: &'a PlannedJob,
     claim: Claim,
     outcome: Outcome,
 }
@@ -73,7 +77,9 @@ pub fn select(plan: &[PlannedJob], range: Option<(usize, usize)>) -> Vec<&Planne
 
 /// Run the jobs of a sweep that are not done yet; write the tables at the end.
 pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::Result<RunSummary> {
-    sweep.write_resolved(dirs)?;
+    if opts.write_resolved {
+        sweep.write_resolved(dirs)?;
+    }
     let selected = select(&sweep.plan, opts.job_range);
     let mut summary = RunSummary {
         selected: selected.len(),
@@ -150,7 +156,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         // the single writer: stores outcomes, then releases the claim
         let writer = scope.spawn(|| {
             for msg in rx {
-                let job = &sweep.plan[msg.job];
+                let job = msg.job;
                 let dir = &msg.claim.dir;
                 let line = match &msg.outcome {
                     Outcome::Finished(result) => match store::write_result(dir, result) {
@@ -269,7 +275,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                             )),
                         };
                         let _ = tx.send(Message {
-                            job: job.index,
+                            job,
                             claim,
                             outcome,
                         });

@@ -92,6 +92,17 @@ pub fn init_job_dir(dir: &Path, job: &PlannedJob) -> std::io::Result<()> {
     Ok(())
 }
 
+/// A job's resolved parameters from its `params.json`.
+pub fn read_params(dir: &Path) -> anyhow::Result<JobParams> {
+    let path = dir.join(PARAMS_FILE);
+    let text =
+        std::fs::read_to_string(&path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let file: ParamsFile =
+        serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    check_owner(dir, &file.id.0, &path)?;
+    Ok(file.params)
+}
+
 /// The state of the job in `dir`, from its files and lock alone (a missing dir is pending).
 /// Probing the lock takes it for an instant when it is free.
 pub fn job_state(dir: &Path) -> JobState {
