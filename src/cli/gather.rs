@@ -14,11 +14,31 @@ pub struct GatherArgs {
 pub fn run(args: GatherArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let written = tables::gather(&sweep, &dirs)?;
+    let names: Vec<String> = std::iter::once("jobs".to_string())
+        .chain(
+            sweep
+                .engine()
+                .analysis
+                .tables()
+                .iter()
+                .map(|t| t.name.to_string()),
+        )
+        .map(|n| format!("{n}.parquet"))
+        .collect();
     println!(
-        "wrote jobs.parquet, spectra.parquet, profiles.parquet, energy.parquet in {}: {} jobs, {} done",
+        "wrote {} in {}: {} jobs, {} done{}",
+        names.join(", "),
         dirs.tables.display(),
         written.jobs,
-        written.done
+        written.done,
+        if args.source.conditions.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (the jobs --where {} selects)",
+                args.source.conditions.join(" ")
+            )
+        }
     );
     Ok(())
 }

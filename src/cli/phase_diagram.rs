@@ -35,7 +35,7 @@ pub fn write_plots(diagram: &PhaseDiagram, dir: &Path) -> anyhow::Result<(PathBu
 pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let jobs = tables::collect(&sweep, &dirs);
-    let swept = swept_in(&sweep, &jobs);
+    let swept = swept_in(&sweep);
     let x = match args
         .x
         .clone()
@@ -51,6 +51,20 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
             swept.get(1).map(|s| s.to_string())
         }
     });
+    for axis in std::iter::once(x.as_str()).chain(y.as_deref()) {
+        if sweep.engine().param(axis).is_some() && !swept.contains(&axis) {
+            return Err(BadInput(format!(
+                "`{axis}` does not vary in this sweep (one value for every job): a diagram over it \
+                 would merge different points; swept: {}",
+                if swept.is_empty() {
+                    "nothing".to_string()
+                } else {
+                    swept.join(", ")
+                }
+            ))
+            .into());
+        }
+    }
     let diagram = PhaseDiagram::build(sweep.engine(), &jobs, &x, y.as_deref()).map_err(BadInput)?;
     let others: Vec<_> = swept
         .iter()

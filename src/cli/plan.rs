@@ -15,14 +15,18 @@ pub struct PlanArgs {
     /// override a fixed value or an axis: key=value or key=v1,v2,... (repeatable)
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// only jobs whose parameters meet this condition (repeatable), e.g. --where restitution=0.7
+    #[arg(long = "where", value_name = "CONDITION")]
+    pub conditions: Vec<String>,
 }
 
 pub fn run(args: PlanArgs) -> anyhow::Result<()> {
-    let sweep = load_sweep(&args.sweep, &args.set)?;
+    let mut sweep = load_sweep(&args.sweep, &args.set)?;
+    let engine = sweep.engine();
+    crate::sweep::select::retain(&mut sweep.plan, &args.conditions, engine)?;
     let dirs = sweep.results_dir(&args.results);
     let jobs = tables::collect(&sweep, &dirs);
-    let mut swept = phase::swept_in(&sweep, &jobs);
-    let engine = sweep.engine();
+    let mut swept = phase::swept_in(&sweep);
     if swept.is_empty()
         && let Some(first) = engine.params.first()
     {

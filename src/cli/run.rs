@@ -32,9 +32,14 @@ pub struct RunArgs {
     /// job directories' params.json, whatever the sweep file says now
     #[arg(long, value_name = "FILE")]
     pub job_ids: Option<PathBuf>,
-    /// run failed jobs again (from their last checkpoint)
+    /// run failed jobs again (from their last checkpoint), and set aside and recompute
+    /// damaged ones
     #[arg(long)]
     pub retry_failed: bool,
+    /// only jobs whose parameters meet this condition: KEY=V, KEY!=V, KEY<V, KEY<=V, KEY>V,
+    /// KEY>=V (repeatable: all must hold), e.g. --where width_over_diameter>=30
+    #[arg(long = "where", value_name = "CONDITION")]
+    pub conditions: Vec<String>,
 }
 
 /// Parse `START:END` (either side may be empty: 0 and the plan length).
@@ -117,6 +122,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         (None, Some(t)) => Some(parse_job_range(t, sweep.plan.len())?),
         (None, None) => None,
     };
+    let engine = sweep.engine();
+    crate::sweep::select::retain(&mut sweep.plan, &args.conditions, engine)?;
+    if sweep.plan.is_empty() {
+        return Err(BadInput("--where selects no job of the sweep".into()).into());
+    }
     if args.threads == Some(0) {
         return Err(BadInput("--threads 0: allowed a whole number >= 1".into()).into());
     }
@@ -163,7 +173,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             dirs.tables.display()
         );
     } else if jobs.iter().all(|j| j.result.is_some()) {
-        let swept = phase::swept_in(&sweep, &jobs);
+        let swept = phase::swept_in(&sweep);
         if let Some(&x) = swept.first() {
             let y = swept.get(1).copied();
             let diagram =

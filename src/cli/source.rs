@@ -15,11 +15,18 @@ pub struct SweepSource {
     /// overrides, as given to `run`, when a sweep file is given
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// only jobs whose parameters meet this condition: KEY=V, KEY!=V, KEY<V, KEY<=V, KEY>V,
+    /// KEY>=V (repeatable: all must hold), e.g. --where restitution=0.7
+    #[arg(long = "where", value_name = "CONDITION")]
+    pub conditions: Vec<String>,
 }
 
 impl SweepSource {
-    /// The sweep and its result directories.
+    /// The sweep and its result directories, its plan cut to the jobs that meet `--where`.
     pub fn open(&self) -> anyhow::Result<(Sweep, SweepDirs)> {
-        Ok(open_any(&self.sweep, &self.set, &self.results)?)
+        let (mut sweep, dirs) = open_any(&self.sweep, &self.set, &self.results)?;
+        let engine = sweep.engine();
+        crate::sweep::select::retain(&mut sweep.plan, &self.conditions, engine)?;
+        Ok((sweep, dirs))
     }
 }

@@ -9,11 +9,86 @@ use clap::Args;
 pub struct StatusArgs {
     #[command(flatten)]
     pub source: SweepSource,
+    /// print one JSON object (counts by state and every job with its parameters, state,
+    /// progress and label) instead of the text
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The machine-readable status: {"sweep", "engine", "tables", "counts", "jobs": [...]}.
+fn status_json(
+    sweep: &crate::sweep::Sweep,
+    dirs: &crate::sweep::SweepDirs,
+    jobs: &[tables::GatheredJob],
+) -> serde_json::Value {
+    use serde_json::json;
+    let mut counts = serde_json::Map::new();
+    for name in ["done", "running", "partial", "pending", "failed", "damaged"] {
+        counts.insert(
+            name.into(),
+            json!(jobs.iter().filter(|j| j.state.name() == name).count()),
+        );
+    }
+    let rows: Vec<serde_json::Value> = jobs
+        .iter()
+        .map(|j| {
+            let run = &j.job.params.run;
+            let dir = dirs.job_dir(&j.job.id);
+            let progress = match &j.state {
+                JobState::Done => j.result.as_ref().map(|r| r.clock(run.clock())),
+                JobState::Partial(p) => Some(p.on(run.clock())),
+                JobState::Running => store::checkpoint_progress(&dir).map(|p| p.on(run.clock())),
+                _ => None,
+            };
+            let (error, label, probability) = match &j.state {
+                JobState::Failed(e) => (Some(e.clone()), None, None),
+                JobState::Damaged { reason, .. } => (Some(reason.clone()), None, None),
+                _ => {
+                    let label = j.result.as_ref().map(|r| {
+                        let (l, h) = r.analysis.label();
+                        crate::analysis::labels::label_key(l, h)
+                    });
+                    let p = j
+                        .result
+                        .as_ref()
+                        .and_then(|r| r.analysis.summary().get("label_probability").cloned());
+                    (None, label, p)
+                }
+            };
+            json!({
+                "index": j.job.index,
+                "id": j.job.id.0,
+                "state": j.state.name(),
+                "params": j.job.params.values,
+                "seed": j.job.params.seed,
+                "clock": run.clock().key(),
+                "progress": progress,
+                "target": run.length(),
+                "label": label,
+                "label_probability": probability,
+                "error": error,
+            })
+        })
+        .collect();
+    json!({
+        "sweep": sweep.name,
+        "engine": sweep.spec.engine,
+        "tables": dirs.tables,
+        "counts": counts,
+        "jobs": rows,
+    })
 }
 
 pub fn run(args: StatusArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let jobs = tables::collect(&sweep, &dirs);
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&status_json(&sweep, &dirs, &jobs))?
+        );
+        return Ok(());
+    }
     let count = |name: &str| jobs.iter().filter(|j| j.state.name() == name).count();
     println!(
         "sweep {} ({} jobs) in {}",
@@ -30,6 +105,10 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
         count("failed"),
         count("damaged")
     );
+    let mut swept = crate::sweep::phase::swept_in(&sweep);
+    if sweep.spec.seeds.len() > 1 {
+        swept.push("seed");
+    }
     for j in &jobs {
         let run = &j.job.params.run;
         let (target, unit) = (run.length(), run.clock().unit());
@@ -79,7 +158,8 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                 format!("DAMAGED  {reason} (set aside and recomputed by `run --retry-failed`)")
             }
         };
-        println!("  [{:>3}] {}  {line}", j.job.index, j.job.id);
+        let point = crate::sweep::phase::point_text(sweep.engine(), &j.job.params, &swept);
+        println!("  [{:>3}] {}  {point}  {line}", j.job.index, j.job.id);
     }
     if let Some(slurm) = crate::slurm::slurm_status(&dirs.tables)? {
         print!("{slurm}");

@@ -17,6 +17,7 @@ pub mod grid;
 pub mod job;
 pub mod phase;
 pub mod runner;
+pub mod select;
 pub mod spec;
 pub mod store;
 pub mod tables;

@@ -177,7 +177,7 @@ pub struct PhaseDiagram {
 /// Parameters that take more than one value over the jobs (the ones worth plotting). Derived
 /// parameters (N and phi of EDMD) count only when the sweep itself varies them (not when they
 /// follow from the box).
-pub fn swept_in(sweep: &super::Sweep, jobs: &[GatheredJob]) -> Vec<&'static str> {
+pub fn swept_in(sweep: &super::Sweep) -> Vec<&'static str> {
     let Some(engine) = super::spec::engine_of(&sweep.spec) else {
         return Vec::new();
     };
@@ -188,10 +188,25 @@ pub fn swept_in(sweep: &super::Sweep, jobs: &[GatheredJob]) -> Vec<&'static str>
         .filter(|d| {
             let derived = d.default == ParamDefault::Derived;
             (!derived || sweep.spec.axes.0.contains_key(d.name) || in_points(d.name))
-                && distinct(jobs, d.name).len() > 1
+                && distinct(sweep.plan.iter().map(|j| &j.params), d.name).len() > 1
         })
         .map(|d| d.name)
         .collect()
+}
+
+/// A job's values of the given parameters, as "L/W=3 W/d=15" (symbols of the declaration).
+pub fn point_text(engine: &EngineDef, params: &super::JobParams, names: &[&str]) -> String {
+    names
+        .iter()
+        .filter_map(|n| {
+            let symbol = engine.param(n).map_or(*n, |d| d.symbol);
+            params
+                .values
+                .get(*n)
+                .map(|v| format!("{symbol}={}", fmt_value(v)))
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Numbers before names; numbers by value, names alphabetically.
@@ -204,11 +219,8 @@ fn value_order(a: &ParamValue, b: &ParamValue) -> std::cmp::Ordering {
     }
 }
 
-fn distinct(jobs: &[GatheredJob], name: &str) -> Vec<ParamValue> {
-    let mut vals: Vec<ParamValue> = jobs
-        .iter()
-        .filter_map(|j| j.job.params.values.get(name).cloned())
-        .collect();
+fn distinct<'a>(jobs: impl Iterator<Item = &'a super::JobParams>, name: &str) -> Vec<ParamValue> {
+    let mut vals: Vec<ParamValue> = jobs.filter_map(|p| p.values.get(name).cloned()).collect();
     vals.sort_by(value_order);
     vals.dedup();
     vals
@@ -253,9 +265,10 @@ impl PhaseDiagram {
                 ));
             }
         }
-        let xs = distinct(jobs, x);
+        let params = || jobs.iter().map(|j| &j.job.params);
+        let xs = distinct(params(), x);
         let ys = match y {
-            Some(y) => distinct(jobs, y),
+            Some(y) => distinct(params(), y),
             None => vec![ParamValue::Number(0.0)],
         };
         let mut cells: BTreeMap<(usize, usize), Cell> = BTreeMap::new();

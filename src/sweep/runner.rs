@@ -145,6 +145,10 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         dirs.tables.display()
     ));
 
+    // a job is named by its swept parameters in progress lines (its id where nothing varies)
+    let swept = super::phase::swept_in(sweep);
+    let point_of = |job: &PlannedJob| super::phase::point_text(sweep.engine(), &job.params, &swept);
+    let point = swept.clone();
     let (tx, rx) = unbounded::<Message>();
     let next = AtomicUsize::new(0);
     let busy = AtomicUsize::new(0);
@@ -237,7 +241,11 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                                 .expect("valid template")
                                 .progress_chars("=> "),
                         );
-                        bar.set_prefix(job.id.0.clone());
+                        bar.set_prefix(if point.is_empty() {
+                            job.id.0.clone()
+                        } else {
+                            point_of(job)
+                        });
                         // work per unit of the run's clock (the estimate is linear in it)
                         let work_per_clock = job.params.estimated_work() / job.params.run.length();
                         let unit = job.params.run.clock().unit();
