@@ -112,7 +112,6 @@ fn plan_of_ids(
 
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let mut sweep = load_sweep(&args.sweep, &args.set)?;
-    crate::sweep::check_results_root(&args.results)?;
     let by_ids = args.job_ids.is_some();
     let job_range = match (&args.job_ids, &args.job_range) {
         (Some(file), range) => {
@@ -130,6 +129,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     if args.threads == Some(0) {
         return Err(BadInput("--threads 0: allowed a whole number >= 1".into()).into());
     }
+    // the input is good: only now may anything be created
+    crate::sweep::check_results_root(&args.results)?;
     let dirs = sweep.results_dir(&args.results);
     let opts = RunOptions {
         threads: args
