@@ -483,3 +483,26 @@ fn results_readme_documents_every_column() {
         );
     }
 }
+
+/// Sweep files written with RON's explicit `Some(..)` around values (and `None` for "not
+/// given"), as the typed sweep files before the registry allowed, read as before.
+#[test]
+fn explicit_some_in_sweep_files_still_reads() {
+    let dir = scratch("some");
+    let plain = write_sweep(
+        &dir,
+        &format!(
+            "(engine: \"edmd\", fixed: ({FIXED}, volume_fraction: 0.15), axes: (length_over_width: [1.0, 2.0]), run: (collisions_per_particle: 10, snapshot_interval: 5))"
+        ),
+    );
+    let a = load_sweep(&plain, &[]).unwrap();
+    let some = dir.join("some.ron");
+    std::fs::write(
+        &some,
+        "(name: Some(\"s\"), engine: \"edmd\", fixed: (width_over_diameter: Some(4.0), height_over_diameter: 4.0, volume_fraction: Some(0.15), roughness: None),\n axes: (length_over_width: Some([1.0, 2.0])), run: (collisions_per_particle: 10, snapshot_interval: 5))",
+    )
+    .unwrap();
+    let b = load_sweep(&some, &[]).unwrap();
+    let ids = |s: &granflow::sweep::Sweep| s.plan.iter().map(|j| j.id.clone()).collect::<Vec<_>>();
+    assert_eq!(ids(&a), ids(&b));
+}

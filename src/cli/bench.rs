@@ -4,6 +4,9 @@
 //! `bytes_per_particle` (scripts compare runs with it; keep the keys); the lattice-gas
 //! workloads add `site_updates_per_s` (their `phi` is the mean density rho per site, their
 //! collisions are applications of rules (1)-(5), their events site updates).
+//! `bytes_per_particle` is what a particle really costs: the growth of the process's peak
+//! resident memory over the workload (set-up and snapshots included), over N (Linux; elsewhere
+//! the engine's own count of its data structures).
 
 use crate::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement};
 use crate::engine::lga::{LgaEngine, LgaParams};
@@ -59,7 +62,7 @@ impl BenchArgs {
 }
 
 /// One benchmark result; the field names are the JSON keys.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, serde::Deserialize)]
 pub struct BenchResult {
     pub workload: String,
     pub n: usize,
@@ -99,6 +102,7 @@ fn lga_workloads() -> Vec<LgaWorkload> {
 
 /// Time a lattice-gas workload: 1000 untimed steps, then `site_updates` timed.
 fn measure_lga(w: &LgaWorkload, site_updates: f64) -> anyhow::Result<BenchResult> {
+    let baseline = memory_baseline();
     let mut engine = LgaEngine::new(w.params.clone()).map_err(anyhow::Error::msg)?;
     engine.advance_to(1000);
     let sites = (w.params.length * w.params.width) as f64;
@@ -119,7 +123,11 @@ fn measure_lga(w: &LgaWorkload, site_updates: f64) -> anyhow::Result<BenchResult
         phi: w.params.density,
         collisions_per_s: (rules(&engine) - before) as f64 / secs,
         events_per_s: updates,
-        bytes_per_particle: engine.bytes() as f64 / n.max(1) as f64,
+        bytes_per_particle: bytes_per_particle(
+            baseline,
+            n,
+            engine.bytes() as f64 / n.max(1) as f64,
+        ),
         site_updates_per_s: Some(updates),
     })
 }
@@ -169,11 +177,51 @@ fn workloads(args: &BenchArgs) -> Vec<Workload> {
 }
 
 /// Run one workload: untimed set-up and warm-up, then the timed stretch.
+/// Resident memory of the process, and its peak, in bytes (Linux; None elsewhere).
+fn resident() -> Option<(f64, f64)> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb = |key: &str| {
+        status
+            .lines()
+            .find(|l| l.starts_with(key))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|v| v.parse::<f64>().ok())
+            .map(|v| v * 1024.0)
+    };
+    Some((kb("VmRSS:")?, kb("VmHWM:")?))
+}
+
+/// Start measuring what a workload costs in memory: reset the peak-RSS mark (Linux) and
+/// return the resident size now.
+fn memory_baseline() -> Option<f64> {
+    // give memory freed by an earlier workload back to the system first, so that this one's
+    // allocations raise the peak instead of reusing it
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: malloc_trim only returns free heap memory to the system
+    unsafe {
+        libc::malloc_trim(0);
+    }
+    // writing 5 to clear_refs resets VmHWM to the current RSS
+    std::fs::write("/proc/self/clear_refs", b"5").ok()?;
+    resident().map(|(rss, _)| rss)
+}
+
+/// Bytes per particle that a workload really cost: the growth of the process's peak resident
+/// memory from `baseline` (set-up, warm-up, snapshots and all), over N; `fallback` where the
+/// system cannot tell.
+fn bytes_per_particle(baseline: Option<f64>, n: usize, fallback: f64) -> f64 {
+    match (baseline, resident()) {
+        (Some(b), Some((_, peak))) if peak > b => (peak - b) / n.max(1) as f64,
+        _ => fallback,
+    }
+}
+
 fn measure(
     w: &Workload,
     search: NeighbourSearch,
     measured_cpp: f64,
 ) -> anyhow::Result<BenchResult> {
+    let baseline = memory_baseline();
     let mut engine = EdmdEngine::with_search(w.params.clone(), search)?;
     engine.advance(StopAt::CollisionsPerParticle(w.warmup))?;
     let before = engine.snapshot().progress;
@@ -188,7 +236,11 @@ fn measure(
         phi: w.params.volume_fraction(),
         collisions_per_s: collisions / secs,
         events_per_s: (after.events - before.events) as f64 / secs,
-        bytes_per_particle: engine.bytes_per_particle(),
+        bytes_per_particle: bytes_per_particle(
+            baseline,
+            w.params.particles,
+            engine.bytes_per_particle(),
+        ),
         site_updates_per_s: None,
     })
 }
@@ -206,6 +258,35 @@ fn machine() -> String {
         .unwrap_or_else(|| std::env::consts::ARCH.to_string());
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     format!("{model}, {cores} cores available, 1 used")
+}
+
+/// Measure one workload in a process of its own (a fresh heap: its memory and speed do not
+/// depend on the workloads before it): `granflow bench --json --workload NAME ...`.
+fn measure_isolated(name: &str, args: &BenchArgs) -> anyhow::Result<BenchResult> {
+    let search = match args.search {
+        SearchChoice::Auto => "auto",
+        SearchChoice::Cells => "cells",
+        SearchChoice::Lists => "lists",
+    };
+    let out = std::process::Command::new(std::env::current_exe()?)
+        .args(["bench", "--json", "--workload", name])
+        .args([
+            "--collisions-per-particle",
+            &args.collisions_per_particle.to_string(),
+        ])
+        .args(["--channel-warmup", &args.channel_warmup.to_string()])
+        .args(["--search", search, "--skin", &args.skin.to_string()])
+        .args(["--site-updates", &args.site_updates.to_string()])
+        .stderr(std::process::Stdio::null())
+        .output()?;
+    anyhow::ensure!(
+        out.status.success(),
+        "the benchmark of {name} failed ({})",
+        out.status
+    );
+    let mut rows: Vec<BenchResult> = serde_json::from_slice(&out.stdout)?;
+    anyhow::ensure!(rows.len() == 1, "{name}: expected one result");
+    Ok(rows.remove(0))
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
@@ -248,10 +329,16 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             "workload", "n", "phi", "collisions/s", "events/s", "bytes/part"
         );
     }
+    // several workloads: each in a process of its own
+    let isolate = selected.len() + lattice.len() > 1;
     let mut results = Vec::new();
     for w in &selected {
         let search = args.search_for(&w.params);
-        let r = measure(w, search, args.collisions_per_particle)?;
+        let r = if isolate {
+            measure_isolated(w.name, &args)?
+        } else {
+            measure(w, search, args.collisions_per_particle)?
+        };
         if !args.json {
             let search = match search {
                 NeighbourSearch::Cells => "cells".to_string(),
@@ -265,7 +352,11 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         results.push(r);
     }
     for w in &lattice {
-        let r = measure_lga(w, args.site_updates)?;
+        let r = if isolate {
+            measure_isolated(w.name, &args)?
+        } else {
+            measure_lga(w, args.site_updates)?
+        };
         if !args.json {
             println!(
                 "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.1}  {:.4e} site updates/s",

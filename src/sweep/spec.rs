@@ -36,8 +36,11 @@ impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for NamedVisitor<T> {
                     "key `{key}` is given twice"
                 )));
             }
-            let value = m.next_value::<T>()?;
-            out.insert(key, value);
+            // `key: Some(v)` (the explicit form of older sweep files) and `key: v` both read
+            // as v; `key: None` means not given
+            if let Some(value) = m.next_value::<Option<T>>()? {
+                out.insert(key, value);
+            }
         }
         Ok(out)
     }
