@@ -3,6 +3,7 @@
 //! recomputed by `--retry-failed`, from the job's own checkpoint where it has one.
 
 use granflow::sweep::{load_sweep, store};
+use polars::prelude::SerReader;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -125,4 +126,99 @@ fn misplaced_and_edited_files_are_detected_set_aside_and_recomputed() {
             "{log}"
         );
     }
+}
+
+/// The table set (key-value metadata `granflow.table_set` of every table) of a tables
+/// directory, one entry per table file.
+fn table_sets(dir: &Path, names: &[&str]) -> Vec<String> {
+    names
+        .iter()
+        .map(|n| {
+            let mut f = std::fs::File::open(dir.join(format!("{n}.parquet"))).unwrap();
+            let mut reader = polars::prelude::ParquetReader::new(&mut f);
+            let meta = reader.get_metadata().unwrap();
+            meta.key_value_metadata()
+                .as_ref()
+                .and_then(|kv| {
+                    kv.iter()
+                        .find(|k| k.key == "granflow.table_set")
+                        .and_then(|k| k.value.clone())
+                })
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
+/// kill -9 during table writing: the four tables always form one set (the same generation
+/// in every file), and they carry their provenance.
+#[test]
+fn tables_are_always_one_consistent_set() {
+    let dir = scratch("tables");
+    let file = dir.join("t.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), run: (collisions_per_particle: 400, snapshot_interval: 5))",
+    )
+    .unwrap();
+    let results = dir.join("results");
+    let out = granflow(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let tables = results.join("t");
+    let names = ["jobs", "spectra", "profiles", "energy"];
+    let first = table_sets(&tables, &names);
+    assert!(!first[0].is_empty() && first.iter().all(|s| *s == first[0]));
+    let mut seen = vec![first[0].clone()];
+    for k in 0..40u64 {
+        let mut child = Command::new(BIN)
+            .args(["gather", tables.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(3 * k));
+        let _ = child.kill();
+        child.wait().unwrap();
+        let sets = table_sets(&tables, &names);
+        assert!(
+            sets.iter().all(|s| *s == sets[0]),
+            "kill {k}: a mixed set {sets:?}"
+        );
+        if !seen.contains(&sets[0]) {
+            seen.push(sets[0].clone());
+        }
+    }
+    assert!(
+        seen.len() > 2,
+        "no gather completed between the kills: {seen:?}"
+    );
+    // provenance in the file metadata
+    let mut f = std::fs::File::open(tables.join("jobs.parquet")).unwrap();
+    let mut reader = polars::prelude::ParquetReader::new(&mut f);
+    let kv = reader
+        .get_metadata()
+        .unwrap()
+        .key_value_metadata()
+        .clone()
+        .unwrap();
+    for key in [
+        "granflow.version",
+        "granflow.commit",
+        "granflow.sweep_ron",
+        "granflow.host",
+    ] {
+        assert!(kv.iter().any(|k| k.key == key), "no {key}");
+    }
+    // and no generation directories left but the current one
+    let generations: Vec<_> = std::fs::read_dir(&tables)
+        .unwrap()
+        .filter_map(|e| {
+            let n = e.unwrap().file_name().to_string_lossy().into_owned();
+            n.starts_with(".tables-").then_some(n)
+        })
+        .collect();
+    assert!(generations.len() <= 2, "{generations:?}");
 }

@@ -77,42 +77,111 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
     let jobs = collect(sweep, dirs);
     let engine = super::spec::engine_of(&sweep.spec).expect("a loaded sweep names an engine");
     std::fs::create_dir_all(&dirs.tables)?;
-    write_parquet(
-        &dirs.tables.join("jobs.parquet"),
-        jobs_frame(engine, &jobs)?,
-    )?;
-    for table in engine.analysis.tables() {
+    // the set is written into a new generation directory, then switched to with one atomic
+    // rename of the `tables` link: a kill leaves either the old set or the new one
+    let generation = format!(
+        ".tables-{}-{}-{}",
+        crate::provenance::now().replace(':', ""),
+        crate::provenance::host(),
+        std::process::id()
+    );
+    let staging = dirs.tables.join(&generation);
+    std::fs::create_dir_all(&staging)?;
+    let metadata = file_metadata(sweep, &generation);
+    let mut names = vec!["jobs".to_string()];
+    let written = (|| -> anyhow::Result<()> {
         write_parquet(
-            &dirs.tables.join(format!("{}.parquet", table.name)),
-            rows_frame(table, &jobs)?,
+            &staging.join("jobs.parquet"),
+            jobs_frame(engine, &jobs)?,
+            &metadata,
         )?;
+        for table in engine.analysis.tables() {
+            write_parquet(
+                &staging.join(format!("{}.parquet", table.name)),
+                rows_frame(table, &jobs)?,
+                &metadata,
+            )?;
+            names.push(table.name.to_string());
+        }
+        Ok(())
+    })();
+    if let Err(e) = written {
+        let _ = std::fs::remove_dir_all(&staging);
+        return Err(e);
     }
+    switch_tables(&dirs.tables, &generation, &names)?;
     Ok(GatherSummary {
         jobs: jobs.len(),
         done: jobs.iter().filter(|j| j.result.is_some()).count(),
     })
 }
 
-fn write_parquet(path: &Path, mut df: DataFrame) -> anyhow::Result<()> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let tmp = dir.join(format!(
-        ".{}.tmp-{}",
-        path.file_name()
-            .map(|n| n.to_string_lossy())
-            .unwrap_or_default(),
-        std::process::id()
-    ));
-    {
-        let file = std::fs::File::create(&tmp)?;
-        ParquetWriter::new(&file)
-            .with_compression(ParquetCompression::Uncompressed)
-            .finish(&mut df)?;
-        file.sync_all()?;
+/// The name of the link to the current table set inside a tables directory; `<name>.parquet`
+/// are links into it.
+pub const TABLES_LINK: &str = "tables";
+
+/// Make `generation` the current set: a new link renamed over `tables` (atomic), the
+/// `<name>.parquet` links made once, earlier generations removed.
+fn switch_tables(dir: &Path, generation: &str, names: &[String]) -> anyhow::Result<()> {
+    let link = dir.join(TABLES_LINK);
+    let tmp = dir.join(format!(".{TABLES_LINK}.tmp-{}", std::process::id()));
+    let _ = std::fs::remove_file(&tmp);
+    std::os::unix::fs::symlink(generation, &tmp)?;
+    std::fs::rename(&tmp, &link)?;
+    for name in names {
+        let file = dir.join(format!("{name}.parquet"));
+        let target = Path::new(TABLES_LINK).join(format!("{name}.parquet"));
+        if std::fs::read_link(&file).ok().as_deref() != Some(target.as_path()) {
+            // a plain file of an older granflow, or a missing link: replace it by the link
+            let _ = std::fs::remove_file(&file);
+            std::os::unix::fs::symlink(&target, &file)?;
+        }
     }
-    std::fs::rename(&tmp, path)?;
     if let Ok(d) = std::fs::File::open(dir) {
         let _ = d.sync_all();
     }
+    for entry in std::fs::read_dir(dir)?.flatten() {
+        let n = entry.file_name().to_string_lossy().into_owned();
+        if n.starts_with(".tables-") && n != generation {
+            let _ = std::fs::remove_dir_all(entry.path());
+        }
+    }
+    Ok(())
+}
+
+/// Key-value metadata of every table of a set: provenance and the sweep they come from.
+fn file_metadata(sweep: &Sweep, generation: &str) -> Vec<(String, String)> {
+    let config =
+        ron::ser::PrettyConfig::default().extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+    vec![
+        ("granflow.version".into(), crate::provenance::VERSION.into()),
+        ("granflow.commit".into(), crate::provenance::COMMIT.into()),
+        ("granflow.host".into(), crate::provenance::host()),
+        ("granflow.written".into(), crate::provenance::now()),
+        (
+            "granflow.table_set".into(),
+            generation.trim_start_matches('.').into(),
+        ),
+        ("granflow.sweep".into(), sweep.name.clone()),
+        ("granflow.engine".into(), sweep.spec.engine.clone()),
+        (
+            "granflow.sweep_ron".into(),
+            ron::ser::to_string_pretty(&sweep.spec, config).unwrap_or_default(),
+        ),
+    ]
+}
+
+fn write_parquet(
+    path: &Path,
+    mut df: DataFrame,
+    metadata: &[(String, String)],
+) -> anyhow::Result<()> {
+    let file = std::fs::File::create(path)?;
+    ParquetWriter::new(&file)
+        .with_compression(ParquetCompression::Uncompressed)
+        .with_key_value_metadata(Some(KeyValueMetadata::from_static(metadata.to_vec())))
+        .finish(&mut df)?;
+    file.sync_all()?;
     Ok(())
 }
 
