@@ -86,3 +86,36 @@ fn where_selects_jobs_and_status_speaks_json() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("does not vary"));
 }
+
+/// A run without a terminal (piped, as in a Slurm log) prints a plain progress line per
+/// running job at a fixed wall-clock interval, naming the job by its parameters.
+#[test]
+fn a_piped_run_prints_progress_lines() {
+    let dir = scratch("progress");
+    let file = dir.join("p.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"edmd\", fixed: (width_over_diameter: 6.0, height_over_diameter: 6.0, volume_fraction: 0.15),\n axes: (length_over_width: [2.0]), run: (collisions_per_particle: 3000, snapshot_interval: 50))",
+    )
+    .unwrap();
+    let results = dir.join("results");
+    let out = Command::new(BIN)
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+        ])
+        .env("GRANFLOW_PROGRESS_SECONDS", "0")
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = text.lines().filter(|l| l.starts_with("running ")).collect();
+    assert!(lines.len() >= 10, "{text}");
+    assert!(
+        lines[0].contains("/3000 cpp") && lines[0].contains("ETA"),
+        "{}",
+        lines[0]
+    );
+}

@@ -68,6 +68,17 @@ struct Message<'a> {
     outcome: Outcome,
 }
 
+/// Wall-clock seconds between the plain progress lines of a run without a terminal:
+/// `GRANFLOW_PROGRESS_SECONDS`, default 60.
+fn progress_interval() -> std::time::Duration {
+    let secs = std::env::var("GRANFLOW_PROGRESS_SECONDS")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+        .filter(|v| v.is_finite() && *v >= 0.0)
+        .unwrap_or(60.0);
+    std::time::Duration::from_secs_f64(secs)
+}
+
 /// Select the jobs of a plan in `range` (plan indices [start, end)).
 pub fn select(plan: &[PlannedJob], range: Option<(usize, usize)>) -> Vec<&PlannedJob> {
     plan.iter()
@@ -108,6 +119,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     });
 
     let interactive = std::io::stderr().is_terminal();
+    let progress_every = progress_interval();
     let multi = MultiProgress::new();
     if !interactive {
         multi.set_draw_target(ProgressDrawTarget::hidden());
@@ -253,6 +265,8 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         let mut last =
                             store::checkpoint_progress(&dir).map_or(0.0, |p| p.on(clock));
                         overall.inc((last * work_per_clock) as u64);
+                        let started = std::time::Instant::now();
+                        let (start_clock, mut printed) = (last, std::time::Instant::now());
                         let mut on_progress = |p: execute::JobProgress| {
                             bar.set_position((1000.0 * p.clock / p.target) as u64);
                             bar.set_message(format!(
@@ -262,6 +276,28 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                             let delta = (p.clock - last).max(0.0);
                             overall.inc((delta * work_per_clock) as u64);
                             last = p.clock;
+                            // without a terminal (a Slurm log, a file): a plain line per job at
+                            // a fixed wall-clock interval (output only; the run never depends
+                            // on it)
+                            if !interactive && printed.elapsed() >= progress_every {
+                                printed = std::time::Instant::now();
+                                let rate = (p.clock - start_clock)
+                                    / started.elapsed().as_secs_f64().max(1e-9);
+                                let eta = if rate > 0.0 {
+                                    format!("{:.0} s", (p.target - p.clock) / rate)
+                                } else {
+                                    "?".into()
+                                };
+                                say(format!(
+                                    "running {} [{}] {}: {:.0}/{:.0} {unit}, {:.2e} events/s, ETA {eta}",
+                                    job.id,
+                                    job.index,
+                                    point_of(job),
+                                    p.clock,
+                                    p.target,
+                                    p.events_per_second
+                                ));
+                            }
                         };
                         let outcome =
                             std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
