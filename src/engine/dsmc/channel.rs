@@ -1,0 +1,646 @@
+//! The DSMC channel engine (thesis ch. 2-3, 5.2): smooth inelastic hard spheres of one or two
+//! species driven by a body force along x between two walls normal to y, with layer cells
+//! across y and Bird's no-time-counter collisions.
+//!
+//! One step (thesis 2.3.2):
+//! 1. *move*: every simulator flies for dt under the force, walls processed at their hit
+//!    times ([`walls::fly`]), and gets the key (cell, species) of its new position;
+//! 2. *sort*: a counting sort by key makes each cell's simulators of each species one
+//!    contiguous run (cell-major, species-minor), so moves, collisions and sampling stream
+//!    through memory;
+//! 3. *collide*: in each cell and for each species pair (s, t), Bird's NTC selects
+//!    M = N_s (N_s - 1)/2 F_N sigma_st g_max dt / V_c (s = t) or N_s N_t F_N sigma_st g_max dt
+//!    / V_c (s != t) candidate pairs, the fraction carried to the next step; a candidate
+//!    collides with probability |g| / g_max along a contact direction weighted by g . k, which
+//!    samples the thesis' rule (eqs. 2.19-2.25, 5.4-5.5) with four times fewer rejections
+//!    ([`kernel::contact_direction`]); g_max (per cell and pair) grows to any larger |g| seen;
+//! 4. *sample*: every `sample_every` steps the raw moments of each (cell, species) are added
+//!    to the interval's sums ([`sampling`]).
+//!
+//! Randomness comes from one PCG-64 (MCG) stream whose 128-bit state is part of the payload,
+//! so that the same seed gives bitwise the same run, and a run resumed from a payload
+//! continues bitwise as if it had never stopped.
+
+use super::kernel::{contact_direction, normal_pair, smooth_collision};
+use super::params::{DsmcParams, WallModel};
+use super::sampling::{Balances, IntervalSums, add_velocity};
+use super::walls::{Walls, fly, fly_periodic};
+use nalgebra::Vector3;
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+
+/// One simulated particle: velocity and position across the channel (x and z are periodic and
+/// not stored, thesis 3.2.1). Its species is that of the sorted run it sits in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Simulator {
+    /// v, velocity
+    pub v: [f64; 3],
+    /// y in [0, W]
+    pub y: f64,
+}
+
+/// Event counts since the start of the run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DsmcCounters {
+    pub steps: u64,
+    /// simulator flights (one per simulator and step)
+    pub moves: u64,
+    /// NTC candidate pairs
+    pub candidates: u64,
+    /// accepted collisions
+    pub collisions: u64,
+    pub wall_hits: u64,
+    /// times a candidate's |g| raised its cell's g_max
+    pub vmax_updates: u64,
+    /// sampling steps
+    pub samples: u64,
+}
+
+/// Resolution checks of a run: a priori from the parameters, measured from the run so far
+/// (cell occupancies and collisions counted at every step; NaN before the first step).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DsmcChecks {
+    pub cells: usize,
+    pub particles: usize,
+    /// cell width / lambda with the a priori lambda = Kn W (thesis: <= 1/3)
+    pub cell_width_over_mean_free_path: f64,
+    /// dt / tau_c with the a priori tau_c at T_w (the `time_step` parameter)
+    pub time_step_over_collision_time: f64,
+    /// largest cell width / local lambda, lambda_c = 1 / (sqrt 2 n_c pi d_1^2) with n_c the
+    /// cell's mean real density over the run
+    pub max_cell_width_over_local_mean_free_path: f64,
+    /// largest dt x local collision rate per particle (2 collisions / occupancy of a cell)
+    pub max_time_step_over_local_collision_time: f64,
+    /// dt x mean collision rate per particle of the whole gas
+    pub time_step_over_mean_collision_time: f64,
+    /// NTC candidates per accepted collision (g_max / <|g|> on average)
+    pub candidates_per_collision: f64,
+    /// mean occupancy of the emptiest cell
+    pub min_mean_particles_per_cell: f64,
+}
+
+/// Everything that evolves, as the payload stores it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct State {
+    params: DsmcParams,
+    step: u64,
+    /// PCG-64 MCG state
+    rng: u128,
+    /// simulators sorted by (cell, species)
+    particles: Vec<Simulator>,
+    /// start of each (cell, species) run in `particles`, plus the total
+    segments: Vec<u32>,
+    /// g_max of each (cell, species pair)
+    speed_bound: Vec<f64>,
+    /// NTC fractional candidates carried over, per (cell, species pair)
+    remainder: Vec<f64>,
+    /// temperature of the layer cell next to each wall (adiabatic walls)
+    adjacent: [f64; 2],
+    counters: DsmcCounters,
+    /// balances since step 0
+    totals: Balances,
+    /// the running sampling interval
+    interval: IntervalSums,
+    /// per cell: summed occupancy over steps, collisions
+    cell_stats: Vec<[u64; 2]>,
+}
+
+/// A species pair that collides in the cells.
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    s: usize,
+    t: usize,
+    restitution: f64,
+    /// candidates per (pair of simulators) per unit g_max: F_N sigma_st dt / V_c
+    rate: f64,
+}
+
+/// Constants of a run derived from its parameters (not stored).
+#[derive(Clone, Debug)]
+struct Derived {
+    cells: usize,
+    species: usize,
+    dt: f64,
+    acceleration: f64,
+    masses: [f64; 2],
+    counts: [usize; 2],
+    pairs: Vec<Pair>,
+    walls: Walls,
+}
+
+impl Derived {
+    fn of(p: &DsmcParams) -> Derived {
+        let cells = p.cell_count();
+        let species = p.species();
+        let counts = p.species_counts();
+        let total = (counts[0] + counts[1]) as f64;
+        let dt = p.dt();
+        let d = p.diameters();
+        let mut pairs = Vec::new();
+        for s in 0..species {
+            for t in s..species {
+                let dst = 0.5 * (d[s] + d[t]);
+                // F_N / V_c = n W / (N dy) = n cells / N, and n sigma_st = n pi d_1^2 (d_st/d_1)^2
+                let rate = p.collision_density() * dst * dst * dt * cells as f64 / total;
+                pairs.push(Pair {
+                    s,
+                    t,
+                    restitution: p.pair_restitution(s, t),
+                    rate,
+                });
+            }
+        }
+        Derived {
+            cells,
+            species,
+            dt,
+            acceleration: p.acceleration(),
+            masses: p.masses(),
+            counts,
+            pairs,
+            walls: Walls {
+                model: p.wall_model,
+                accommodation: p.accommodation,
+                roughness: p.wall_roughness,
+                temperature: 1.0,
+            },
+        }
+    }
+}
+
+/// Reused buffers of the step (not stored).
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    keys: Vec<u32>,
+    counts: Vec<u32>,
+    sorted: Vec<Simulator>,
+}
+
+/// The DSMC channel engine.
+#[derive(Clone, Debug)]
+pub struct DsmcEngine {
+    state: State,
+    derived: Derived,
+    scratch: Scratch,
+}
+
+impl DsmcEngine {
+    /// Set up a run: simulators uniform across the channel, Maxwellian velocities at T_w
+    /// (species s with variance k T_w / m_s per component), species 1 first.
+    pub fn new(params: DsmcParams) -> Result<Self, String> {
+        params.validate()?;
+        let derived = Derived::of(&params);
+        let mut rng = Pcg64Mcg::seed_from_u64(params.seed);
+        let mut particles = Vec::with_capacity(derived.counts[0] + derived.counts[1]);
+        let mut keys = Vec::with_capacity(particles.capacity());
+        for s in 0..derived.species {
+            let sigma = (1.0 / derived.masses[s]).sqrt();
+            for _ in 0..derived.counts[s] {
+                let y = rng.random::<f64>();
+                let (a, b) = normal_pair(&mut rng);
+                let (c, _) = normal_pair(&mut rng);
+                particles.push(Simulator {
+                    v: [sigma * a, sigma * b, sigma * c],
+                    y,
+                });
+                let cell = cell_of(y, derived.cells);
+                keys.push((cell * derived.species + s) as u32);
+            }
+        }
+        let segments_len = derived.cells * derived.species + 1;
+        let pair_slots = derived.cells * derived.pairs.len();
+        let bounds: Vec<f64> = derived
+            .pairs
+            .iter()
+            .map(|pair| {
+                // thesis 3.2.2: three times the most probable (relative) speed at T_w
+                let inverse_reduced = 1.0 / derived.masses[pair.s] + 1.0 / derived.masses[pair.t];
+                3.0 * inverse_reduced.sqrt()
+            })
+            .collect();
+        let state = State {
+            step: 0,
+            rng: 0,
+            particles,
+            segments: vec![0; segments_len],
+            speed_bound: (0..pair_slots)
+                .map(|i| bounds[i % derived.pairs.len()])
+                .collect(),
+            remainder: vec![0.0; pair_slots],
+            adjacent: [1.0; 2],
+            counters: DsmcCounters::default(),
+            totals: Balances::default(),
+            interval: IntervalSums::default(),
+            cell_stats: vec![[0; 2]; derived.cells],
+            params,
+        };
+        let mut engine = DsmcEngine {
+            state,
+            derived,
+            scratch: Scratch::default(),
+        };
+        engine.scratch.keys = keys;
+        engine.sort();
+        engine.state.rng = rng.state();
+        engine.state.interval = engine.fresh_interval();
+        if engine.state.params.wall_model == WallModel::Adiabatic {
+            engine.update_adjacent();
+        }
+        Ok(engine)
+    }
+
+    pub fn params(&self) -> &DsmcParams {
+        &self.state.params
+    }
+
+    /// Steps done.
+    pub fn steps(&self) -> u64 {
+        self.state.step
+    }
+
+    /// Simulated time, steps x dt.
+    pub fn time(&self) -> f64 {
+        self.state.step as f64 * self.derived.dt
+    }
+
+    /// Delta t.
+    pub fn dt(&self) -> f64 {
+        self.derived.dt
+    }
+
+    /// Layer cells across the channel.
+    pub fn cells(&self) -> usize {
+        self.derived.cells
+    }
+
+    /// Simulators of each species.
+    pub fn species_counts(&self) -> [usize; 2] {
+        self.derived.counts
+    }
+
+    /// Run until `step` steps are done (nothing if already there). Deterministic: the same
+    /// parameters reach the same state bitwise, however the run is split into calls.
+    pub fn advance_to_step(&mut self, step: u64) {
+        while self.state.step < step {
+            self.step();
+        }
+    }
+
+    /// Counters by name: steps, moves, candidates, collisions, wall hits, g_max updates,
+    /// samples.
+    pub fn counters(&self) -> Vec<(&'static str, u64)> {
+        let c = &self.state.counters;
+        vec![
+            ("steps", c.steps),
+            ("moves", c.moves),
+            ("candidates", c.candidates),
+            ("collisions", c.collisions),
+            ("wall_hits", c.wall_hits),
+            ("vmax_updates", c.vmax_updates),
+            ("samples", c.samples),
+        ]
+    }
+
+    /// The counters as a struct.
+    pub fn counter_values(&self) -> DsmcCounters {
+        self.state.counters
+    }
+
+    /// Cell-width and time-step checks, a priori and measured over the run so far.
+    pub fn checks(&self) -> DsmcChecks {
+        let d = &self.derived;
+        let p = &self.state.params;
+        let n = (d.counts[0] + d.counts[1]) as f64;
+        let steps = self.state.counters.steps as f64;
+        let mut max_width = f64::NAN;
+        let mut max_rate = f64::NAN;
+        let mut min_occupancy = f64::NAN;
+        if steps > 0.0 {
+            for &[occupancy, collisions] in &self.state.cell_stats {
+                let mean = occupancy as f64 / steps;
+                // width / lambda_c = (W / cells) / (lambda N / (cells n_c)) = n_c / (N lambda)
+                max_width = max_width.max(mean / (n * p.mean_free_path()));
+                if occupancy > 0 {
+                    max_rate = max_rate.max(2.0 * collisions as f64 / occupancy as f64);
+                }
+                min_occupancy = min_occupancy.min(mean);
+            }
+        }
+        let c = &self.state.counters;
+        DsmcChecks {
+            cells: d.cells,
+            particles: n as usize,
+            cell_width_over_mean_free_path: 1.0 / (d.cells as f64 * p.mean_free_path()),
+            time_step_over_collision_time: p.time_step,
+            max_cell_width_over_local_mean_free_path: max_width,
+            max_time_step_over_local_collision_time: max_rate,
+            time_step_over_mean_collision_time: 2.0 * c.collisions as f64 / (n * steps),
+            candidates_per_collision: c.candidates as f64 / c.collisions as f64,
+            min_mean_particles_per_cell: min_occupancy,
+        }
+    }
+
+    /// Balances since step 0.
+    pub fn totals(&self) -> &Balances {
+        &self.state.totals
+    }
+
+    /// The running sampling interval (read-only).
+    pub fn interval(&self) -> &IntervalSums {
+        &self.state.interval
+    }
+
+    /// Read and reset the sampling interval: returns the sums since the last call (or the
+    /// start) with the kinetic energy and x-momentum at both ends, and starts a new interval.
+    pub fn take_interval(&mut self) -> IntervalSums {
+        let fresh = self.fresh_interval();
+        let mut done = std::mem::replace(&mut self.state.interval, fresh);
+        done.end_step = self.state.step;
+        done.duration = (done.end_step - done.start_step) as f64 * self.derived.dt;
+        done.kinetic_energy[1] = self.state.interval.kinetic_energy[0];
+        done.momentum_x[1] = self.state.interval.momentum_x[0];
+        done
+    }
+
+    /// Total kinetic energy sum m |v|^2 / 2 and x-momentum sum m v_x.
+    pub fn energy_and_momentum(&self) -> (f64, f64) {
+        let (mut energy, mut momentum) = (0.0, 0.0);
+        self.for_each_simulator(|s, _, v| {
+            let m = self.derived.masses[s];
+            energy += 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            momentum += m * v[0];
+        });
+        (energy, momentum)
+    }
+
+    /// Visit every simulator as (species, y, v), in storage order.
+    pub fn for_each_simulator(&self, mut f: impl FnMut(usize, f64, [f64; 3])) {
+        let st = &self.state;
+        for (seg, w) in st.segments.windows(2).enumerate() {
+            let s = seg % self.derived.species;
+            for p in &st.particles[w[0] as usize..w[1] as usize] {
+                f(s, p.y, p.v);
+            }
+        }
+    }
+
+    /// The engine state as postcard bytes (the caller adds its envelope).
+    pub fn to_payload(&self) -> Vec<u8> {
+        postcard::to_stdvec(&self.state).expect("DSMC state serialises")
+    }
+
+    /// Restore an engine from [`to_payload`](Self::to_payload) bytes; it continues bitwise
+    /// as the engine that wrote them would have.
+    pub fn from_payload(bytes: &[u8]) -> Result<Self, String> {
+        let state: State = postcard::from_bytes(bytes)
+            .map_err(|e| format!("DSMC payload does not decode: {e}"))?;
+        state.params.validate()?;
+        let derived = Derived::of(&state.params);
+        let n = derived.counts[0] + derived.counts[1];
+        let k = derived.cells * derived.species;
+        let slots = derived.cells * derived.pairs.len();
+        let consistent = state.particles.len() == n
+            && state.segments.len() == k + 1
+            && state.segments[0] == 0
+            && state.segments[k] as usize == n
+            && state.segments.windows(2).all(|w| w[0] <= w[1])
+            && state.speed_bound.len() == slots
+            && state.remainder.len() == slots
+            && state.cell_stats.len() == derived.cells
+            && state.interval.moments.len() == k
+            && state.particles.iter().all(|p| (0.0..=1.0).contains(&p.y));
+        if !consistent {
+            return Err(format!(
+                "DSMC payload is inconsistent with its parameters ({} simulators, {} cells, \
+                 {} species expected)",
+                n, derived.cells, derived.species
+            ));
+        }
+        Ok(DsmcEngine {
+            state,
+            derived,
+            scratch: Scratch::default(),
+        })
+    }
+
+    fn fresh_interval(&self) -> IntervalSums {
+        let (energy, momentum) = self.energy_and_momentum();
+        IntervalSums::start(
+            self.state.step,
+            self.derived.cells,
+            self.derived.species,
+            energy,
+            momentum,
+        )
+    }
+
+    /// One DSMC step: move, sort, collide, (adiabatic walls: wall-cell temperatures), sample.
+    fn step(&mut self) {
+        let mut rng = Pcg64Mcg::new(self.state.rng);
+        self.flights(&mut rng);
+        self.sort();
+        self.collisions(&mut rng);
+        if self.state.params.wall_model == WallModel::Adiabatic {
+            self.update_adjacent();
+        }
+        self.state.rng = rng.state();
+        self.state.step += 1;
+        self.state.counters.steps += 1;
+        if self.state.step % self.state.params.sample_every == 0 {
+            self.sample();
+        }
+    }
+
+    /// Move every simulator for dt and key it by its new (cell, species).
+    fn flights(&mut self, rng: &mut Pcg64Mcg) {
+        let d = &self.derived;
+        let st = &mut self.state;
+        let sc = &mut self.scratch;
+        let n = st.particles.len();
+        sc.keys.resize(n, 0);
+        let (dt, a, cells, species) = (d.dt, d.acceleration, d.cells, d.species);
+        let walls = d.walls;
+        let adjacent = st.adjacent;
+        let mut tally = Balances::default();
+        for seg in 0..cells * species {
+            let s = seg % species;
+            let mass = d.masses[s];
+            let (lo, hi) = (st.segments[seg] as usize, st.segments[seg + 1] as usize);
+            let mut dx = 0.0;
+            for (p, key) in st.particles[lo..hi].iter_mut().zip(&mut sc.keys[lo..hi]) {
+                let mut v = Vector3::from(p.v);
+                if walls.model == WallModel::Periodic {
+                    fly_periodic(&mut p.y, &v, dt);
+                } else {
+                    dx += fly(&mut p.y, &mut v, dt, a, |wall, incoming| {
+                        let outgoing = walls.reemit(wall, incoming, mass, adjacent[wall], rng);
+                        let w = &mut tally.walls[wall];
+                        w.hits += 1;
+                        for c in 0..3 {
+                            w.momentum[c] += mass * (incoming[c] - outgoing[c]);
+                        }
+                        w.energy +=
+                            0.5 * mass * (incoming.norm_squared() - outgoing.norm_squared());
+                        outgoing
+                    });
+                    p.v = v.into();
+                }
+                *key = (cell_of(p.y, cells) * species + s) as u32;
+            }
+            tally.work += mass * a * dx;
+        }
+        st.counters.moves += n as u64;
+        st.counters.wall_hits += tally.walls[0].hits + tally.walls[1].hits;
+        st.totals.add(&tally);
+        st.interval.balances.add(&tally);
+    }
+
+    /// Counting sort of the simulators by key into contiguous (cell, species) runs.
+    fn sort(&mut self) {
+        let st = &mut self.state;
+        let sc = &mut self.scratch;
+        let k = st.segments.len() - 1;
+        sc.counts.clear();
+        sc.counts.resize(k, 0);
+        for &key in &sc.keys {
+            sc.counts[key as usize] += 1;
+        }
+        let mut offset = 0u32;
+        for (start, count) in st.segments.iter_mut().zip(sc.counts.iter_mut()) {
+            *start = offset;
+            offset += *count;
+            *count = *start; // becomes the write cursor of its run
+        }
+        st.segments[k] = offset;
+        sc.sorted.resize(st.particles.len(), Simulator::default());
+        for (p, &key) in st.particles.iter().zip(&sc.keys) {
+            let cursor = &mut sc.counts[key as usize];
+            sc.sorted[*cursor as usize] = *p;
+            *cursor += 1;
+        }
+        std::mem::swap(&mut st.particles, &mut sc.sorted);
+    }
+
+    /// NTC collisions in every cell and species pair.
+    fn collisions(&mut self, rng: &mut Pcg64Mcg) {
+        let d = &self.derived;
+        let st = &mut self.state;
+        let species = d.species;
+        let npairs = d.pairs.len();
+        let (mut candidates, mut collisions, mut updates) = (0u64, 0u64, 0u64);
+        let mut dissipated = 0.0;
+        for c in 0..d.cells {
+            let cell_start = st.segments[c * species] as usize;
+            let cell_end = st.segments[(c + 1) * species] as usize;
+            let before = collisions;
+            for (q, pair) in d.pairs.iter().enumerate() {
+                let (lo_s, hi_s) = (
+                    st.segments[c * species + pair.s] as usize,
+                    st.segments[c * species + pair.s + 1] as usize,
+                );
+                let (lo_t, hi_t) = (
+                    st.segments[c * species + pair.t] as usize,
+                    st.segments[c * species + pair.t + 1] as usize,
+                );
+                let (ns, nt) = (hi_s - lo_s, hi_t - lo_t);
+                let same = pair.s == pair.t;
+                let pair_count = if same {
+                    (ns * ns.saturating_sub(1) / 2) as f64
+                } else {
+                    (ns * nt) as f64
+                };
+                let slot = c * npairs + q;
+                let mut bound = st.speed_bound[slot];
+                let expected = pair_count * pair.rate * bound + st.remainder[slot];
+                let whole = expected.floor();
+                st.remainder[slot] = expected - whole;
+                let masses = (d.masses[pair.s], d.masses[pair.t]);
+                for _ in 0..whole as u64 {
+                    let i = lo_s + rng.random_range(0..ns as u32) as usize;
+                    let j = if same {
+                        let r = rng.random_range(0..(ns - 1) as u32) as usize;
+                        lo_s + (i - lo_s + 1 + r) % ns
+                    } else {
+                        lo_t + rng.random_range(0..nt as u32) as usize
+                    };
+                    let mut vi = Vector3::from(st.particles[i].v);
+                    let mut vj = Vector3::from(st.particles[j].v);
+                    let g = vi - vj;
+                    let speed = g.norm();
+                    if speed > bound {
+                        bound = speed;
+                        updates += 1;
+                    }
+                    if rng.random::<f64>() * bound < speed {
+                        let k = contact_direction(rng, &(g / speed));
+                        dissipated +=
+                            smooth_collision(&mut vi, &mut vj, &k, pair.restitution, masses);
+                        st.particles[i].v = vi.into();
+                        st.particles[j].v = vj.into();
+                        collisions += 1;
+                    }
+                }
+                candidates += whole as u64;
+                st.speed_bound[slot] = bound;
+            }
+            let stats = &mut st.cell_stats[c];
+            stats[0] += (cell_end - cell_start) as u64;
+            stats[1] += collisions - before;
+        }
+        let cn = &mut st.counters;
+        cn.candidates += candidates;
+        cn.collisions += collisions;
+        cn.vmax_updates += updates;
+        for b in [&mut st.totals, &mut st.interval.balances] {
+            b.collisions += collisions;
+            b.dissipated += dissipated;
+        }
+    }
+
+    /// Temperature of the two wall cells, T = sum m |v - u|^2 / (3 (N_c - 1)) with u the cell's
+    /// mass-weighted mean velocity (all species); a cell with fewer than two simulators keeps
+    /// its previous value.
+    fn update_adjacent(&mut self) {
+        let species = self.derived.species;
+        for (wall, cell) in [(0, 0), (1, self.derived.cells - 1)] {
+            let (mut mass, mut momentum, mut energy, mut count) = (0.0, Vector3::zeros(), 0.0, 0);
+            for s in 0..species {
+                let m = self.derived.masses[s];
+                let lo = self.state.segments[cell * species + s] as usize;
+                let hi = self.state.segments[cell * species + s + 1] as usize;
+                for p in &self.state.particles[lo..hi] {
+                    let v = Vector3::from(p.v);
+                    mass += m;
+                    momentum += m * v;
+                    energy += m * v.norm_squared();
+                    count += 1;
+                }
+            }
+            if count >= 2 {
+                let u = momentum / mass;
+                let thermal = energy - mass * u.norm_squared();
+                self.state.adjacent[wall] = thermal / (3.0 * (count - 1) as f64);
+            }
+        }
+    }
+
+    /// Add the moments of every (cell, species) run to the interval.
+    fn sample(&mut self) {
+        let st = &mut self.state;
+        for (seg, w) in st.segments.windows(2).enumerate() {
+            let acc = &mut st.interval.moments[seg];
+            for p in &st.particles[w[0] as usize..w[1] as usize] {
+                add_velocity(acc, &Vector3::from(p.v));
+            }
+        }
+        st.interval.samples += 1;
+        st.counters.samples += 1;
+    }
+}
+
+/// Layer cell of position y in [0, 1].
+#[inline(always)]
+fn cell_of(y: f64, cells: usize) -> usize {
+    ((y * cells as f64) as usize).min(cells - 1)
+}
