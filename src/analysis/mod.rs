@@ -14,6 +14,7 @@
 pub mod classify;
 pub mod fields;
 pub mod profiles;
+pub mod rarefied;
 mod report;
 pub mod snapshot_io;
 pub mod spectrum;

@@ -447,7 +447,11 @@ impl DsmcEngine {
         self.state.rng = rng.state();
         self.state.step += 1;
         self.state.counters.steps += 1;
-        if self.state.step % self.state.params.sample_every == 0 {
+        if self
+            .state
+            .step
+            .is_multiple_of(self.state.params.sample_every)
+        {
             self.sample();
         }
     }
