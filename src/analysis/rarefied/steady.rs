@@ -12,7 +12,8 @@
 //! 2. *length*: the window holds at least `min_records` records (and at least 8).
 //! 3. *plateau*: for the temperature and Q, the mean of the window's first quarter differs from
 //!    that of its second half by at most max(Z sigma, tolerance |mean|), sigma the standard
-//!    error of the difference from the record-to-record scatter of each part;
+//!    error of the difference from the record-to-record scatter of each part, inflated by
+//!    1 + 2 rho_1 for the correlation rho_1 > 0 of consecutive records;
 //! 4. *balance*: the mean storage fraction of the first quarter and of the whole window are
 //!    within max(Z standard errors, tolerance) of 0 (a gas still heating up or cooling down
 //!    stores or releases energy).
@@ -129,8 +130,8 @@ fn test_window(w: &[RecordTrace], tolerance: f64) -> Result<(), String> {
         if a.iter().chain(&b).any(|x| x.is_nan()) {
             continue;
         }
-        let (ma, ea) = mean_and_error(&a);
-        let (mb, eb) = mean_and_error(&b);
+        let (ma, ea) = mean_and_correlated_error(&a);
+        let (mb, eb) = mean_and_correlated_error(&b);
         let allowed =
             (STEADY_SIGMAS * (ea * ea + eb * eb).sqrt()).max(tolerance * (0.5 * (ma + mb)).abs());
         if (ma - mb).abs() > allowed {
@@ -145,7 +146,7 @@ fn test_window(w: &[RecordTrace], tolerance: f64) -> Result<(), String> {
         if storage.iter().any(|x| x.is_nan()) {
             continue;
         }
-        let (m, e) = mean_and_error(&storage);
+        let (m, e) = mean_and_correlated_error(&storage);
         let allowed = (STEADY_SIGMAS * e).max(tolerance);
         if m.abs() > allowed {
             return Err(format!(
@@ -154,6 +155,17 @@ fn test_window(w: &[RecordTrace], tolerance: f64) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Mean and its standard error for serially correlated values: the independent-sample error
+/// times sqrt(1 + 2 rho_1), rho_1 >= 0 the lag-one autocorrelation (an AR(1) estimate).
+fn mean_and_correlated_error(x: &[f64]) -> (f64, f64) {
+    let (mean, error) = mean_and_error(x);
+    let n = x.len();
+    let var: f64 = x.iter().map(|v| (v - mean).powi(2)).sum();
+    let lag: f64 = (1..n).map(|i| (x[i] - mean) * (x[i - 1] - mean)).sum();
+    let rho = if var > 0.0 { (lag / var).max(0.0) } else { 0.0 };
+    (mean, error * (1.0 + 2.0 * rho).sqrt())
 }
 
 /// Mean and its standard error from the scatter of independent values (error NaN for one).
