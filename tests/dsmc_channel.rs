@@ -430,3 +430,152 @@ fn runs_are_deterministic_and_resume_bitwise() {
         "{err}"
     );
 }
+
+/// Documented check: the full BGK table. Q0 from a-hat pairs (a, 2a) chosen per point so that
+/// the a^2 extrapolation stays small: a = 0.1 for delta >= 1, 0.05 for 0.3 <= delta < 1, and
+/// 0.025 / 0.005 at delta = 0.1 / 0.01 (there the force acts over flights of up to
+/// lambda = 9 W and 89 W); cells of at most lambda/10; long runs.
+#[test]
+#[ignore]
+fn bgk_table() {
+    println!("| delta | Kn | a-hat | Q(a) | Q(2a) | Q0 | BGK G_P | Q0/G_P - 1 |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for (delta, table) in BGK_TABLE {
+        let kn = 0.8885 / delta;
+        let a = match delta {
+            d if d >= 1.0 => 0.1,
+            d if d >= 0.3 => 0.05,
+            d if d >= 0.1 => 0.025,
+            _ => 0.005,
+        };
+        let cells = ((10.0 / kn).ceil() as usize).max(50);
+        let records = if delta >= 5.0 { 400 } else { 1600 };
+        let t = Instant::now();
+        let (q1, e1) = molecular_flow_rate(delta, a, cells, records, 41);
+        let (q2, e2) = molecular_flow_rate(delta, 2.0 * a, cells, records / 2, 42);
+        let q0 = (4.0 * q1 - q2) / 3.0;
+        let e0 = (16.0 * e1 * e1 + e2 * e2).sqrt() / 3.0;
+        println!(
+            "| {delta} | {kn:.4} | {a} | {q1:.4} +- {e1:.4} | {q2:.4} +- {e2:.4} | {q0:.4} +- {e0:.4} | \
+             {table} | {:+.2} % | ({:.0} s, {cells} cells)",
+            100.0 * (q0 / table - 1.0),
+            t.elapsed().as_secs_f64()
+        );
+    }
+}
+
+/// Documented check of the thesis' trends (Figs. 3.24, 4.3, 4.5): Q(Kn) at a-hat = 0.5 between
+/// thermal walls for e_n in {1, 0.99, 0.9, 0.7}, and Q-hat(Kn) between adiabatic walls at
+/// e_n = 0.7; the minimum of each curve (grid point, refined by a parabola in log Kn through
+/// its neighbours).
+#[test]
+#[ignore]
+fn knudsen_minimum_trends() {
+    let knudsen = [
+        0.01, 0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 3.0, 5.0, 10.0,
+    ];
+    let curves = [
+        (WallModel::Thermal, 1.0),
+        (WallModel::Thermal, 0.99),
+        (WallModel::Thermal, 0.9),
+        (WallModel::Thermal, 0.7),
+        (WallModel::Adiabatic, 0.7),
+    ];
+    for (wall_model, restitution) in curves {
+        println!("\n{wall_model:?} walls, e_n = {restitution}, a-hat = 0.5");
+        println!(
+            "| Kn | Q | Q-hat | u_s | T_fw | Delta T | rho_o | N1(0) | N2(0) | dt nu_max | dy/lambda_min | s |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let mut q = Vec::new();
+        for kn in knudsen {
+            let params = DsmcParams {
+                wall_model,
+                ..DsmcParams::thermal(kn, 0.5, restitution, 51)
+            };
+            let steps = (1.5 * params.relaxation_steps() as f64).ceil() as u64;
+            let t = Instant::now();
+            let (analysis, engine) = run(params, 40, steps);
+            let s = &analysis.summary;
+            let c = engine.checks();
+            let value = if wall_model == WallModel::Thermal {
+                s.flow_rate
+            } else {
+                s.flow_rate_hat
+            };
+            println!(
+                "| {kn} | {:.4} +- {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.0}{} |",
+                s.flow_rate.value,
+                s.flow_rate.error,
+                s.flow_rate_hat.value,
+                s.slip_velocity.value,
+                s.temperature_slip.value,
+                s.bimodality.value,
+                s.centre_density.value,
+                s.n1_centre.value,
+                s.n2_centre.value,
+                c.max_time_step_over_local_collision_time,
+                c.max_cell_width_over_local_mean_free_path,
+                t.elapsed().as_secs_f64(),
+                if s.steady { "" } else { " not steady" }
+            );
+            q.push(value.value);
+        }
+        let i = (0..q.len()).min_by(|&a, &b| q[a].total_cmp(&q[b])).unwrap();
+        if i == 0 || i == q.len() - 1 {
+            println!(
+                "no interior minimum: smallest Q at Kn = {} (grid end)",
+                knudsen[i]
+            );
+        } else {
+            let x: Vec<f64> = (i - 1..=i + 1).map(|k| knudsen[k].ln()).collect();
+            let y = &q[i - 1..=i + 1];
+            // vertex of the parabola through three points
+            let d1 = (y[1] - y[0]) / (x[1] - x[0]);
+            let d2 = (y[2] - y[1]) / (x[2] - x[1]);
+            let curvature = (d2 - d1) / (x[2] - x[0]);
+            let vertex = 0.5 * (x[0] + x[1]) - d1 / (2.0 * curvature);
+            println!(
+                "minimum at grid Kn = {}, parabola Kn = {:.3}",
+                knudsen[i],
+                vertex.exp()
+            );
+        }
+    }
+}
+
+/// Documented check: single-core speed on the case of issue 15 (Kn = 0.1 and 1, 6000
+/// simulators, 200 cells, dt = 0.1 tau_c, molecular gas between thermal walls at a-hat = 0.5),
+/// without sampling and with the 13 cell moments sampled every step.
+#[test]
+#[ignore]
+fn speed() {
+    for (kn, sample_every) in [(0.1, u64::MAX), (0.1, 1), (1.0, u64::MAX), (1.0, 1)] {
+        let params = DsmcParams {
+            cells: 200,
+            particles_per_cell: 30.0,
+            sample_every,
+            ..DsmcParams::thermal(kn, 0.5, 1.0, 61)
+        };
+        let mut engine = DsmcEngine::new(params).unwrap();
+        engine.advance_to_step(2000);
+        let before = engine.counter_values();
+        let t = Instant::now();
+        engine.advance_to_step(22_000);
+        let seconds = t.elapsed().as_secs_f64();
+        let after = engine.counter_values();
+        println!(
+            "Kn = {kn}, {}: {:.1} M moves/s, {:.2} M collisions/s, {:.2} M candidates/s, {:.3} wall hits per move ({:.2} s)",
+            if sample_every == 1 {
+                "sampling every step"
+            } else {
+                "no sampling"
+            },
+            (after.moves - before.moves) as f64 / seconds / 1e6,
+            (after.collisions - before.collisions) as f64 / seconds / 1e6,
+            (after.candidates - before.candidates) as f64 / seconds / 1e6,
+            (after.wall_hits - before.wall_hits) as f64 / (after.moves - before.moves) as f64,
+            seconds
+        );
+    }
+}

@@ -661,3 +661,93 @@ impl DsmcEngine {
 fn cell_of(y: f64, cells: usize) -> usize {
     ((y * cells as f64) as usize).min(cells - 1)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mixture() -> DsmcParams {
+        DsmcParams {
+            knudsen_number: 0.2,
+            restitution: 0.8,
+            species2_fraction: 0.3,
+            mass_ratio: 2.0,
+            restitution_12: 0.9,
+            cells: 17,
+            seed: 4,
+            ..DsmcParams::default()
+        }
+    }
+
+    /// After every step each sorted run holds exactly the simulators of its cell, and the
+    /// species counts are kept.
+    #[test]
+    fn sorted_runs_hold_their_cell_and_species() {
+        let mut engine = DsmcEngine::new(mixture()).unwrap();
+        for step in 1..=20 {
+            engine.advance_to_step(step);
+            let st = &engine.state;
+            let (cells, species) = (engine.derived.cells, engine.derived.species);
+            let mut counts = [0; 2];
+            for (seg, w) in st.segments.windows(2).enumerate() {
+                for p in &st.particles[w[0] as usize..w[1] as usize] {
+                    assert_eq!(cell_of(p.y, cells), seg / species);
+                    assert!((0.0..=1.0).contains(&p.y));
+                }
+                counts[seg % species] += (w[1] - w[0]) as usize;
+            }
+            assert_eq!(counts, engine.derived.counts);
+        }
+    }
+
+    /// Without walls and force the collisions conserve momentum to round-off and dissipate
+    /// exactly the kinetic energy they report.
+    #[test]
+    fn periodic_collisions_conserve_momentum_and_account_for_energy() {
+        let params = DsmcParams {
+            wall_model: WallModel::Periodic,
+            forcing: 0.0,
+            ..mixture()
+        };
+        let mut engine = DsmcEngine::new(params).unwrap();
+        let (e0, _) = engine.energy_and_momentum();
+        let momentum = |engine: &DsmcEngine| {
+            let mut p = Vector3::zeros();
+            engine.for_each_simulator(|s, _, v| p += engine.derived.masses[s] * Vector3::from(v));
+            p
+        };
+        let p0 = momentum(&engine);
+        engine.advance_to_step(200);
+        let (e1, _) = engine.energy_and_momentum();
+        assert!(
+            (momentum(&engine) - p0).norm() < 1e-10,
+            "{:?}",
+            momentum(&engine) - p0
+        );
+        assert!(engine.counter_values().collisions > 1000);
+        let lost = engine.totals().dissipated;
+        assert!(lost > 0.01 * e0);
+        assert!((e0 - e1 - lost).abs() < 1e-10 * e0, "{e0} - {e1} vs {lost}");
+    }
+
+    /// take_interval reads and resets: consecutive intervals tile the run, and the samples
+    /// of an interval are its steps / sample_every.
+    #[test]
+    fn intervals_tile_the_run() {
+        let params = DsmcParams {
+            sample_every: 4,
+            ..mixture()
+        };
+        let mut engine = DsmcEngine::new(params).unwrap();
+        engine.advance_to_step(10);
+        let a = engine.take_interval();
+        engine.advance_to_step(30);
+        let b = engine.take_interval();
+        assert_eq!((a.start_step, a.end_step, a.samples), (0, 10, 2));
+        assert_eq!((b.start_step, b.end_step, b.samples), (10, 30, 5));
+        assert_eq!(a.kinetic_energy[1], b.kinetic_energy[0]);
+        assert!((b.duration - 20.0 * engine.dt()).abs() < 1e-15);
+        let samples: f64 = b.moments.iter().map(|m| m[0]).sum();
+        assert_eq!(samples, 5.0 * engine.state.particles.len() as f64);
+    }
+}
