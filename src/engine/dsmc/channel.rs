@@ -10,11 +10,13 @@
 //!    through memory;
 //! 3. *collide*: in each cell and for each species pair (s, t), Bird's NTC selects
 //!    M = N_s (N_s - 1)/2 F_N sigma_st g_max dt / V_c (s = t) or N_s N_t F_N sigma_st g_max dt
-//!    / V_c (s != t) candidate pairs, the fraction carried to the next step; a candidate
+//!    / V_c (s != t) candidate pairs (rounded at random, so its mean is exact); a candidate
 //!    collides with probability |g| / g_max along a contact direction weighted by g . k, which
 //!    samples the thesis' rule (eqs. 2.19-2.25, 5.4-5.5) with four times fewer rejections
-//!    ([`kernel::contact_direction`]); g_max (per cell and pair) starts safely above the
-//!    relative speeds at T_w ([`INITIAL_SPEED_BOUND`]) and grows past any larger |g| seen;
+//!    ([`kernel::contact_direction`]). g_max is an exact bound computed afresh in every cell
+//!    and step, g_max = r_s + r_t with r_s = max |v_i - c| over the species-s simulators and c
+//!    the cell's mean velocity (|v_i - v_j| <= |v_i - c| + |v_j - c|), instead of the thesis'
+//!    bound updated when exceeded (see [`DsmcCounters::bound_exceedances`] for why);
 //! 4. *sample*: every `sample_every` steps the raw moments of each (cell, species) are added
 //!    to the interval's sums ([`sampling`]).
 //!
@@ -30,18 +32,6 @@ use nalgebra::Vector3;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
-
-/// Initial g_max of a species pair in units of s = sqrt(k T_w (1/m_s + 1/m_t)), the spread of
-/// each relative-velocity component at T_w: |g| / s of a Maxwellian pair is chi-distributed
-/// with 3 degrees of freedom and exceeds 6 with probability 7e-8. (The thesis, 3.2.2, starts
-/// from 3 most probable speeds, exceeded by 3 % of the pairs: each such candidate is
-/// under-collided until g_max has crept up, which kept Q 2 % low for the first ~40 000 steps
-/// at Kn = 0.89; measured.)
-pub const INITIAL_SPEED_BOUND: f64 = 6.0;
-
-/// A candidate faster than g_max raises it to this multiple of its |g|, so that a gas hotter
-/// than T_w reaches a safe bound after a few such (slightly under-collided) candidates.
-pub const SPEED_BOUND_MARGIN: f64 = 1.25;
 
 /// One simulated particle: velocity and position across the channel (x and z are periodic and
 /// not stored, thesis 3.2.1). Its species is that of the sorted run it sits in.
@@ -64,8 +54,15 @@ pub struct DsmcCounters {
     /// accepted collisions
     pub collisions: u64,
     pub wall_hits: u64,
-    /// times a candidate's |g| raised its cell's g_max
-    pub vmax_updates: u64,
+    /// candidates with |g| above their cell's g_max, which collisions earlier in the same cell
+    /// and step can cause (they collide with probability 1 instead of |g| / g_max_true, and
+    /// raise g_max for the rest of the cell). The exact per-step bound replaces the thesis'
+    /// g_max that starts at 3 most probable speeds and grows when exceeded (3.2.2): that bound
+    /// is exceeded by 3 % of the pairs at T_w, each such candidate is under-collided until
+    /// g_max has crept up (it kept Q 2 % low for the first ~40 000 steps at Kn = 0.89), and it
+    /// never comes down in a cooled cluster, where almost every candidate is then rejected
+    /// (measured: both effects, the second stalling a granular run at Kn = 0.01, e = 0.7).
+    pub bound_exceedances: u64,
     /// sampling steps
     pub samples: u64,
 }
@@ -104,10 +101,6 @@ struct State {
     particles: Vec<Simulator>,
     /// start of each (cell, species) run in `particles`, plus the total
     segments: Vec<u32>,
-    /// g_max of each (cell, species pair)
-    speed_bound: Vec<f64>,
-    /// NTC fractional candidates carried over, per (cell, species pair)
-    remainder: Vec<f64>,
     /// temperature of the layer cell next to each wall (adiabatic walls)
     adjacent: [f64; 2],
     counters: DsmcCounters,
@@ -222,25 +215,11 @@ impl DsmcEngine {
             }
         }
         let segments_len = derived.cells * derived.species + 1;
-        let pair_slots = derived.cells * derived.pairs.len();
-        let bounds: Vec<f64> = derived
-            .pairs
-            .iter()
-            .map(|pair| {
-                // s = sqrt(k T_w (1/m_s + 1/m_t)), the spread of each relative-velocity component
-                let inverse_reduced = 1.0 / derived.masses[pair.s] + 1.0 / derived.masses[pair.t];
-                INITIAL_SPEED_BOUND * inverse_reduced.sqrt()
-            })
-            .collect();
         let state = State {
             step: 0,
             rng: 0,
             particles,
             segments: vec![0; segments_len],
-            speed_bound: (0..pair_slots)
-                .map(|i| bounds[i % derived.pairs.len()])
-                .collect(),
-            remainder: vec![0.0; pair_slots],
             adjacent: [1.0; 2],
             counters: DsmcCounters::default(),
             totals: Balances::default(),
@@ -300,8 +279,8 @@ impl DsmcEngine {
         }
     }
 
-    /// Counters by name: steps, moves, candidates, collisions, wall hits, g_max updates,
-    /// samples.
+    /// Counters by name: steps, moves, candidates, collisions, wall hits, g_max bound
+    /// exceedances, samples.
     pub fn counters(&self) -> Vec<(&'static str, u64)> {
         let c = &self.state.counters;
         vec![
@@ -310,7 +289,7 @@ impl DsmcEngine {
             ("candidates", c.candidates),
             ("collisions", c.collisions),
             ("wall_hits", c.wall_hits),
-            ("vmax_updates", c.vmax_updates),
+            ("bound_exceedances", c.bound_exceedances),
             ("samples", c.samples),
         ]
     }
@@ -412,14 +391,11 @@ impl DsmcEngine {
         let derived = Derived::of(&state.params);
         let n = derived.counts[0] + derived.counts[1];
         let k = derived.cells * derived.species;
-        let slots = derived.cells * derived.pairs.len();
         let consistent = state.particles.len() == n
             && state.segments.len() == k + 1
             && state.segments[0] == 0
             && state.segments[k] as usize == n
             && state.segments.windows(2).all(|w| w[0] <= w[1])
-            && state.speed_bound.len() == slots
-            && state.remainder.len() == slots
             && state.cell_stats.len() == derived.cells
             && state.interval.moments.len() == k
             && state.particles.iter().all(|p| (0.0..=1.0).contains(&p.y));
@@ -544,62 +520,77 @@ impl DsmcEngine {
         let d = &self.derived;
         let st = &mut self.state;
         let species = d.species;
-        let npairs = d.pairs.len();
-        let (mut candidates, mut collisions, mut updates) = (0u64, 0u64, 0u64);
+        let (mut candidates, mut collisions, mut exceeded) = (0u64, 0u64, 0u64);
         let mut dissipated = 0.0;
         for c in 0..d.cells {
-            let cell_start = st.segments[c * species] as usize;
-            let cell_end = st.segments[(c + 1) * species] as usize;
+            let run = |s: usize| {
+                (
+                    st.segments[c * species + s] as usize,
+                    st.segments[c * species + s + 1] as usize,
+                )
+            };
+            let (cell_start, cell_end) = (run(0).0, run(species - 1).1);
             let before = collisions;
-            for (q, pair) in d.pairs.iter().enumerate() {
-                let (lo_s, hi_s) = (
-                    st.segments[c * species + pair.s] as usize,
-                    st.segments[c * species + pair.s + 1] as usize,
-                );
-                let (lo_t, hi_t) = (
-                    st.segments[c * species + pair.t] as usize,
-                    st.segments[c * species + pair.t + 1] as usize,
-                );
-                let (ns, nt) = (hi_s - lo_s, hi_t - lo_t);
-                let same = pair.s == pair.t;
-                let pair_count = if same {
-                    (ns * ns.saturating_sub(1) / 2) as f64
-                } else {
-                    (ns * nt) as f64
-                };
-                let slot = c * npairs + q;
-                let mut bound = st.speed_bound[slot];
-                let expected = pair_count * pair.rate * bound + st.remainder[slot];
-                let whole = expected.floor();
-                st.remainder[slot] = expected - whole;
-                let masses = (d.masses[pair.s], d.masses[pair.t]);
-                for _ in 0..whole as u64 {
-                    let i = lo_s + rng.random_range(0..ns as u32) as usize;
-                    let j = if same {
-                        let r = rng.random_range(0..(ns - 1) as u32) as usize;
-                        lo_s + (i - lo_s + 1 + r) % ns
-                    } else {
-                        lo_t + rng.random_range(0..nt as u32) as usize
-                    };
-                    let mut vi = Vector3::from(st.particles[i].v);
-                    let mut vj = Vector3::from(st.particles[j].v);
-                    let g = vi - vj;
-                    let speed = g.norm();
-                    if speed > bound {
-                        bound = SPEED_BOUND_MARGIN * speed;
-                        updates += 1;
-                    }
-                    if rng.random::<f64>() * bound < speed {
-                        let k = contact_direction(rng, &(g / speed));
-                        dissipated +=
-                            smooth_collision(&mut vi, &mut vj, &k, pair.restitution, masses);
-                        st.particles[i].v = vi.into();
-                        st.particles[j].v = vj.into();
-                        collisions += 1;
-                    }
+            if cell_end - cell_start >= 2 {
+                // r_s = max |v_i - c| about the cell's mean velocity c
+                let cell = &st.particles[cell_start..cell_end];
+                let centre = cell
+                    .iter()
+                    .map(|p| Vector3::from(p.v))
+                    .sum::<Vector3<f64>>()
+                    / cell.len() as f64;
+                let mut radius = [0.0f64; 2];
+                for (s, r) in radius.iter_mut().enumerate().take(species) {
+                    let (lo, hi) = run(s);
+                    let widest = st.particles[lo..hi]
+                        .iter()
+                        .map(|p| (Vector3::from(p.v) - centre).norm_squared())
+                        .fold(0.0, f64::max);
+                    *r = widest.sqrt();
                 }
-                candidates += whole as u64;
-                st.speed_bound[slot] = bound;
+                for pair in &d.pairs {
+                    let ((lo_s, hi_s), (lo_t, hi_t)) = (run(pair.s), run(pair.t));
+                    let (ns, nt) = (hi_s - lo_s, hi_t - lo_t);
+                    let same = pair.s == pair.t;
+                    let pair_count = if same {
+                        (ns * ns.saturating_sub(1) / 2) as f64
+                    } else {
+                        (ns * nt) as f64
+                    };
+                    let mut bound = radius[pair.s] + radius[pair.t];
+                    if pair_count == 0.0 || bound == 0.0 {
+                        continue;
+                    }
+                    let expected = pair_count * pair.rate * bound;
+                    let whole = (expected + rng.random::<f64>()) as u64;
+                    let masses = (d.masses[pair.s], d.masses[pair.t]);
+                    for _ in 0..whole {
+                        let i = lo_s + rng.random_range(0..ns as u32) as usize;
+                        let j = if same {
+                            let r = rng.random_range(0..(ns - 1) as u32) as usize;
+                            lo_s + (i - lo_s + 1 + r) % ns
+                        } else {
+                            lo_t + rng.random_range(0..nt as u32) as usize
+                        };
+                        let mut vi = Vector3::from(st.particles[i].v);
+                        let mut vj = Vector3::from(st.particles[j].v);
+                        let g = vi - vj;
+                        let speed = g.norm();
+                        if speed > bound {
+                            bound = speed;
+                            exceeded += 1;
+                        }
+                        if rng.random::<f64>() * bound < speed {
+                            let k = contact_direction(rng, &(g / speed));
+                            dissipated +=
+                                smooth_collision(&mut vi, &mut vj, &k, pair.restitution, masses);
+                            st.particles[i].v = vi.into();
+                            st.particles[j].v = vj.into();
+                            collisions += 1;
+                        }
+                    }
+                    candidates += whole;
+                }
             }
             let stats = &mut st.cell_stats[c];
             stats[0] += (cell_end - cell_start) as u64;
@@ -608,7 +599,7 @@ impl DsmcEngine {
         let cn = &mut st.counters;
         cn.candidates += candidates;
         cn.collisions += collisions;
-        cn.vmax_updates += updates;
+        cn.bound_exceedances += exceeded;
         for b in [&mut st.totals, &mut st.interval.balances] {
             b.collisions += collisions;
             b.dissipated += dissipated;
