@@ -19,6 +19,7 @@ mod kind;
 pub mod labels;
 pub mod lattice;
 pub mod profiles;
+pub mod rarefied;
 mod report;
 pub mod snapshot_io;
 pub mod spectrum;

@@ -5,8 +5,10 @@
 //!
 //! The collision rule is the engine's own ([`pair_collision`], thesis eqs. 2.5-2.11), which
 //! tests check from first principles; what this module adds is an independent way of
-//! choosing who collides and how (no flights, no cells, no neighbour search).
+//! choosing who collides and how (no flights, no cells, no neighbour search). The contact
+//! direction comes from the kernel the channel DSMC shares ([`contact_direction`]).
 
+use super::kernel::contact_direction;
 use crate::engine::edmd::collision::{ContactLaw, SphereVelocity, pair_collision};
 use crate::engine::edmd::setup::gaussian3;
 use nalgebra::Vector3;
@@ -126,25 +128,6 @@ impl HomogeneousGas {
     }
 }
 
-/// Unit vector k from sphere i to sphere j at contact, given the direction u of their relative
-/// velocity: among approaching contacts (u . k > 0) the rate is proportional to u . k, so
-/// cos(theta) = u . k has density 2 cos(theta) on [0, 1] (drawn as sqrt of a uniform deviate)
-/// and the azimuth is uniform.
-fn contact_direction(rng: &mut Pcg64, u: &Vector3<f64>) -> Vector3<f64> {
-    let cos_theta = rng.random::<f64>().sqrt();
-    let sin_theta = (1.0 - cos_theta * cos_theta).sqrt();
-    let phi = 2.0 * std::f64::consts::PI * rng.random::<f64>();
-    // an orthonormal pair perpendicular to u
-    let helper = if u.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let e1 = u.cross(&helper).normalize();
-    let e2 = u.cross(&e1);
-    cos_theta * u + sin_theta * (phi.cos() * e1 + phi.sin() * e2)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -199,26 +182,5 @@ mod tests {
         assert!((r1 / t1 - r / t).abs() < 1e-12);
         let mean: Vector3<f64> = gas.velocities.iter().sum::<Vector3<f64>>() / 1000.0;
         assert!(mean.norm() < 1e-14);
-    }
-
-    /// Contact directions lie on the approaching hemisphere with <u . k> = 2/3 (density
-    /// 2 cos theta) and no preferred azimuth; sampling error of the means ~ 1e-3 for 1e5 draws.
-    #[test]
-    fn contact_directions_are_weighted_by_the_approach_speed() {
-        let mut rng = Pcg64::seed_from_u64(3);
-        let u = Vector3::new(0.3, -0.5, 0.8).normalize();
-        let draws = 100_000;
-        let mut mean_cos = 0.0;
-        let mut mean_k = Vector3::zeros();
-        for _ in 0..draws {
-            let k = contact_direction(&mut rng, &u);
-            assert!((k.norm() - 1.0).abs() < 1e-12);
-            let c = u.dot(&k);
-            assert!(c >= 0.0);
-            mean_cos += c / draws as f64;
-            mean_k += (k - c * u) / draws as f64;
-        }
-        assert!((mean_cos - 2.0 / 3.0).abs() < 5e-3, "<cos> = {mean_cos}");
-        assert!(mean_k.norm() < 1e-2, "azimuthal mean {mean_k:?}");
     }
 }

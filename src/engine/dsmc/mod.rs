@@ -1,8 +1,23 @@
-//! Direct simulation Monte Carlo (Bird) of the Boltzmann equation for rough inelastic spheres.
+//! Direct simulation Monte Carlo (Bird) of the Boltzmann equation.
 //!
-//! - [`homogeneous`]: a spatially homogeneous gas (no positions), the exact solution of the
-//!   Boltzmann equation without the Maxwellian closure of kinetic theory; it is the reference
-//!   for the homogeneous cooling state where that closure is not accurate (nearly smooth
-//!   spheres, beta <= 0).
+//! - [`homogeneous`]: a spatially homogeneous gas of rough inelastic spheres (no positions),
+//!   the exact solution of the Boltzmann equation without the Maxwellian closure of kinetic
+//!   theory; it is the reference for the homogeneous cooling state where that closure is not
+//!   accurate (nearly smooth spheres, beta <= 0).
+//! - [`channel`]: the channel engine of Gupta's thesis (2017): smooth inelastic hard spheres
+//!   (one or two species) driven by a body force between two walls, layer cells, Bird's
+//!   no-time-counter collisions; [`params`] (control parameters), [`walls`] (flights and wall
+//!   models), [`sampling`] (cell moments and balances).
+//! - [`kernel`]: what both share: the contact direction of a hard-sphere collision, the
+//!   smooth inelastic collision rule, portable random deviates.
 
+pub mod channel;
 pub mod homogeneous;
+pub mod kernel;
+pub mod params;
+pub mod sampling;
+pub mod walls;
+
+pub use channel::{DsmcChecks, DsmcCounters, DsmcEngine, Simulator};
+pub use params::{DsmcParams, WallModel};
+pub use sampling::{Balances, IntervalSums};
