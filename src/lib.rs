@@ -17,6 +17,7 @@
 pub mod analysis;
 pub mod cli;
 pub mod engine;
+pub mod figure;
 pub mod provenance;
 pub mod slurm;
 pub mod sweep;

@@ -336,7 +336,7 @@ fn a_key_of_another_engine_says_so() {
         "(engine: \"lga\", fixed: (restitution: 0.7), run: (steps: 100, snapshot_interval: 10))",
         &[
             "fixed.restitution",
-            "parameter of the \"edmd\" engine, not of the lga engine",
+            "parameter of the \"edmd\" and \"dsmc\" engines, not of the lga engine",
         ],
     );
     let dir = scratch("other-engine-set");

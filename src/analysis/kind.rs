@@ -5,6 +5,7 @@
 
 use super::columns::{Cell, ColumnDef, ColumnKind, TableDef};
 use super::lattice::{LatticeAnalysis, LatticeRecord, LatticeSettings};
+use super::rarefied::{RarefiedAnalysis, RarefiedRecord, RarefiedSettings};
 use super::{AnalysisSettings, JobAnalysis, SnapshotRecord};
 use crate::engine::Snapshot;
 use serde::{Deserialize, Serialize};
@@ -19,6 +20,10 @@ pub enum AnalysisKind {
     /// density waves of a lattice gas in a pipe (Peng & Herrmann 1994): bin densities over
     /// time, the power spectrum of a region's count, 1/f^alpha, the wave peak
     Lattice,
+    /// a rarefied channel gas sampled by DSMC (Gupta 2017): time-averaged cross-channel
+    /// profiles, flow rate, slips, normal-stress differences, balances, mixture segregation,
+    /// each with a block-average error over the detected steady window
+    Rarefied,
 }
 
 /// A kind's settings, ready to record and analyse.
@@ -26,6 +31,7 @@ pub enum AnalysisKind {
 pub enum Analyser {
     Structure(AnalysisSettings),
     Lattice(LatticeSettings),
+    Rarefied(RarefiedSettings),
 }
 
 /// What one snapshot contributes, by kind.
@@ -33,6 +39,7 @@ pub enum Analyser {
 pub enum Record {
     Structure(SnapshotRecord),
     Lattice(LatticeRecord),
+    Rarefied(Box<RarefiedRecord>),
 }
 
 /// A job's analysis, by kind (untagged in `result.ron`: results written before there were
@@ -42,6 +49,7 @@ pub enum Record {
 pub enum Analysis {
     Structure(JobAnalysis),
     Lattice(LatticeAnalysis),
+    Rarefied(RarefiedAnalysis),
 }
 
 impl AnalysisKind {
@@ -52,6 +60,7 @@ impl AnalysisKind {
         match self {
             AnalysisKind::Structure => 2,
             AnalysisKind::Lattice => 1,
+            AnalysisKind::Rarefied => 1,
         }
     }
 
@@ -82,6 +91,13 @@ impl AnalysisKind {
                 s.validate()?;
                 Ok(Analyser::Lattice(s))
             }
+            AnalysisKind::Rarefied => {
+                let s: RarefiedSettings = serde_json::from_value(given).map_err(|e| {
+                    format!("{e}; allowed keys: blocks, min_steady_records, steady_tolerance")
+                })?;
+                s.validate()?;
+                Ok(Analyser::Rarefied(s))
+            }
         }
     }
 
@@ -94,12 +110,21 @@ impl AnalysisKind {
             AnalysisKind::Lattice => {
                 serde_json::to_value(LatticeSettings::default()).expect("settings serialise")
             }
+            AnalysisKind::Rarefied => {
+                serde_json::to_value(RarefiedSettings::default()).expect("settings serialise")
+            }
         }
     }
 
     /// The summary columns of `jobs.parquet`, in order, with their types: the fields of the
     /// kind's summary (fixed, whatever jobs are done).
     pub fn summary_columns(self) -> Vec<(String, ColumnKind)> {
+        if self == AnalysisKind::Rarefied {
+            return rarefied_summary(&super::rarefied::RarefiedSummary::default())
+                .into_iter()
+                .map(|(name, v)| (name, column_kind(&v)))
+                .collect();
+        }
         let empty = match self {
             AnalysisKind::Structure => {
                 serde_json::to_value(super::report::empty_summary()).expect("summary serialises")
@@ -108,19 +133,14 @@ impl AnalysisKind {
                 super::lattice::analyse(&[], &LatticeSettings::default()).summary,
             )
             .expect("summary serialises"),
+            AnalysisKind::Rarefied => unreachable!("handled above"),
         };
         let Value::Object(map) = empty else {
             return Vec::new();
         };
         map.into_iter()
             .map(|(name, v)| {
-                let kind = match v {
-                    Value::Bool(_) => ColumnKind::Bool,
-                    Value::String(_) => ColumnKind::Str,
-                    Value::Number(n) if n.is_u64() => ColumnKind::U64,
-                    Value::Number(n) if n.is_i64() => ColumnKind::I64,
-                    _ => ColumnKind::F64,
-                };
+                let kind = column_kind(&v);
                 (name, kind)
             })
             .collect()
@@ -131,8 +151,45 @@ impl AnalysisKind {
         match self {
             AnalysisKind::Structure => STRUCTURE_TABLES,
             AnalysisKind::Lattice => LATTICE_TABLES,
+            AnalysisKind::Rarefied => RAREFIED_TABLES,
         }
     }
+}
+
+/// The column type of a summary value.
+fn column_kind(v: &Value) -> ColumnKind {
+    match v {
+        Value::Bool(_) => ColumnKind::Bool,
+        Value::String(_) => ColumnKind::Str,
+        Value::Number(n) if n.is_u64() => ColumnKind::U64,
+        Value::Number(n) if n.is_i64() => ColumnKind::I64,
+        _ => ColumnKind::F64,
+    }
+}
+
+/// The summary row of a DSMC job: the label (`steady` or `not-steady`), the steady rule's
+/// reason, then the numeric columns in [`RarefiedSummary::columns`] order (`steady` as a
+/// boolean, the window's counts as integers; NaN, for measures that do not apply, as null).
+///
+/// [`RarefiedSummary::columns`]: super::rarefied::RarefiedSummary::columns
+fn rarefied_summary(s: &super::rarefied::RarefiedSummary) -> Map<String, Value> {
+    let mut m = Map::new();
+    let label = if s.steady { "steady" } else { "not-steady" };
+    m.insert("label".into(), Value::String(label.into()));
+    m.insert("steady_reason".into(), Value::String(s.reason.clone()));
+    for (name, value) in s.columns() {
+        let v = match name.as_str() {
+            "steady" => Value::Bool(s.steady),
+            "window_start_step" | "window_end_step" | "window_records" | "blocks" => {
+                Value::from(value as u64)
+            }
+            _ => serde_json::Number::from_f64(value)
+                .map(Value::Number)
+                .unwrap_or(Value::Null),
+        };
+        m.insert(name, v);
+    }
+    m
 }
 
 const LATTICE_TABLES: &[TableDef] = &[
@@ -261,12 +318,63 @@ const STRUCTURE_TABLES: &[TableDef] = &[
     },
 ];
 
+const RAREFIED_TABLES: &[TableDef] = &[TableDef {
+    name: "profiles",
+    columns: RAREFIED_PROFILE_COLUMNS,
+}];
+
+/// The columns of a DSMC job's profiles (one row per layer cell; normalisation as in the
+/// thesis: y / W, rho / rho_avg, u / u_c, T / T_w, stresses and heat flux in their reduced
+/// units; `_error`: block-average standard error).
+const RAREFIED_PROFILE_COLUMNS: &[ColumnDef] = &[
+    f64_column("y", "y / W about the centre, in (-1/2, 1/2)"),
+    f64_column("density", "rho / rho_avg"),
+    f64_column("density_error", "its standard error"),
+    f64_column("velocity", "u_x / u_c (mass-weighted)"),
+    f64_column("velocity_error", "its standard error"),
+    f64_column(
+        "velocity_hat",
+        "u_x / sqrt(a W) (athermal walls, thesis ch. 4)",
+    ),
+    f64_column("temperature", "T / T_w"),
+    f64_column("temperature_error", "its standard error"),
+    f64_column("temperature_over_centre", "T / T(0)"),
+    f64_column("pressure", "p / P_c"),
+    f64_column("pxx", "P_xx / P_c"),
+    f64_column("pyy", "P_yy / P_c"),
+    f64_column("pzz", "P_zz / P_c"),
+    f64_column("pxy", "P_xy / P_c (shear stress)"),
+    f64_column("pxy_error", "its standard error"),
+    f64_column("qx", "q_x / q_c"),
+    f64_column("qx_error", "its standard error"),
+    f64_column("qy", "q_y / q_c"),
+    f64_column("qy_error", "its standard error"),
+    f64_column("n1", "first normal-stress difference N1 (eq. 3.29)"),
+    f64_column("n2", "second normal-stress difference N2 (eq. 3.30)"),
+    f64_column("local_knudsen", "local Knudsen number Kn_y (eq. 3.25)"),
+    f64_column("species1_density", "n_1 / n_avg"),
+    f64_column("species2_density", "n_2 / n_avg (NaN when monodisperse)"),
+    f64_column("species1_temperature", "T_1 / T_w (eq. 5.9)"),
+    f64_column("species2_temperature", "T_2 / T_w (eq. 5.10)"),
+    f64_column("species1_velocity", "u_x,1 / u_c"),
+    f64_column("species2_velocity", "u_x,2 / u_c"),
+];
+
+const fn f64_column(name: &'static str, doc: &'static str) -> ColumnDef {
+    ColumnDef {
+        name,
+        kind: ColumnKind::F64,
+        doc,
+    }
+}
+
 impl Analyser {
     /// The settings as JSON (all keys, resolved).
     pub fn settings(&self) -> Value {
         match self {
             Analyser::Structure(s) => serde_json::to_value(s).expect("settings serialise"),
             Analyser::Lattice(s) => serde_json::to_value(s).expect("settings serialise"),
+            Analyser::Rarefied(s) => serde_json::to_value(s).expect("settings serialise"),
         }
     }
 
@@ -289,31 +397,48 @@ impl Analyser {
                     s,
                 )))
             }
+            Analyser::Rarefied(_) => {
+                let sample = snapshot.sampled().ok_or(
+                    "the rarefied analysis needs sampled moments, and this engine's snapshots carry none",
+                )?;
+                Ok(Record::Rarefied(Box::new(sample.clone())))
+            }
         }
     }
 
-    /// Analyse a job's records (in order of simulated time).
-    pub fn analyse(&self, records: &[Record]) -> Analysis {
+    /// Analyse a job's records (in order of simulated time); records of another kind are
+    /// ignored. Err: the records cannot be analysed (e.g. none holds a sample).
+    pub fn analyse(&self, records: &[Record]) -> Result<Analysis, String> {
         match self {
             Analyser::Structure(s) => {
                 let records: Vec<SnapshotRecord> = records
                     .iter()
                     .filter_map(|r| match r {
                         Record::Structure(r) => Some(r.clone()),
-                        Record::Lattice(_) => None,
+                        _ => None,
                     })
                     .collect();
-                Analysis::Structure(super::analyse_job(&records, s))
+                Ok(Analysis::Structure(super::analyse_job(&records, s)))
             }
             Analyser::Lattice(s) => {
                 let records: Vec<LatticeRecord> = records
                     .iter()
                     .filter_map(|r| match r {
                         Record::Lattice(r) => Some(r.clone()),
-                        Record::Structure(_) => None,
+                        _ => None,
                     })
                     .collect();
-                Analysis::Lattice(super::lattice::analyse(&records, s))
+                Ok(Analysis::Lattice(super::lattice::analyse(&records, s)))
+            }
+            Analyser::Rarefied(s) => {
+                let records: Vec<RarefiedRecord> = records
+                    .iter()
+                    .filter_map(|r| match r {
+                        Record::Rarefied(r) => Some((**r).clone()),
+                        _ => None,
+                    })
+                    .collect();
+                super::rarefied::analyse(&records, s).map(Analysis::Rarefied)
             }
         }
     }
@@ -341,13 +466,13 @@ impl Analyser {
                     .iter()
                     .filter_map(|r| match r {
                         Record::Structure(r) => Some(r.clone()),
-                        Record::Lattice(_) => None,
+                        _ => None,
                     })
                     .collect();
                 super::steady_over(&records, s, clock, window, &mut check.structure)
             }
             // validation refuses `until_steady` for kinds without a steady rule
-            Analyser::Lattice(_) => None,
+            Analyser::Lattice(_) | Analyser::Rarefied(_) => None,
         }
     }
 }
@@ -358,6 +483,7 @@ impl Record {
         match self {
             Record::Structure(r) => r.time,
             Record::Lattice(r) => r.step as f64,
+            Record::Rarefied(r) => r.sums.end_step as f64,
         }
     }
 }
@@ -368,6 +494,14 @@ impl Analysis {
         match self {
             Analysis::Structure(a) => (&a.summary.label, a.summary.humps),
             Analysis::Lattice(a) => (&a.summary.label, 0),
+            Analysis::Rarefied(a) => (
+                if a.summary.steady {
+                    "steady"
+                } else {
+                    "not-steady"
+                },
+                0,
+            ),
         }
     }
 
@@ -375,7 +509,7 @@ impl Analysis {
     /// written.
     pub fn write_figures(&self, dir: &std::path::Path) -> anyhow::Result<Vec<String>> {
         match self {
-            Analysis::Structure(_) => Ok(Vec::new()),
+            Analysis::Structure(_) | Analysis::Rarefied(_) => Ok(Vec::new()),
             Analysis::Lattice(a) => {
                 super::lattice::plot_spacetime(a, &dir.join("spacetime.png"))?;
                 Ok(vec!["spacetime.png".into()])
@@ -388,6 +522,7 @@ impl Analysis {
         match self {
             Analysis::Structure(_) => AnalysisKind::Structure,
             Analysis::Lattice(_) => AnalysisKind::Lattice,
+            Analysis::Rarefied(_) => AnalysisKind::Rarefied,
         }
     }
 
@@ -396,6 +531,7 @@ impl Analysis {
         let v = match self {
             Analysis::Structure(a) => serde_json::to_value(&a.summary),
             Analysis::Lattice(a) => serde_json::to_value(&a.summary),
+            Analysis::Rarefied(a) => return rarefied_summary(&a.summary),
         };
         match v {
             Ok(Value::Object(m)) => m,
@@ -462,6 +598,14 @@ impl Analysis {
                     .spacetime
                     .iter()
                     .map(|r| vec![r.step.into(), r.bin.into(), r.count.into()])
+                    .collect(),
+                _ => Vec::new(),
+            },
+            Analysis::Rarefied(a) => match table {
+                "profiles" => a
+                    .profiles
+                    .iter()
+                    .map(|r| r.values().into_iter().map(Cell::from).collect())
                     .collect(),
                 _ => Vec::new(),
             },

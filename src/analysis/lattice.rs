@@ -775,12 +775,8 @@ pub fn plot_spacetime(analysis: &LatticeAnalysis, path: &Path) -> anyhow::Result
     );
     let lo = cells.iter().map(|c| c.count).min().unwrap_or(0);
     let hi = cells.iter().map(|c| c.count).max().unwrap_or(1).max(lo + 1);
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        let err = |e| anyhow::anyhow!("drawing the space-time picture: {e}");
-        register_font();
-        root.fill(&WHITE).map_err(err)?;
+    crate::figure::save_png(path, (w, h), |root| {
+        root.fill(&WHITE)?;
         let mut col = 0usize;
         let mut last = None;
         for c in cells {
@@ -796,8 +792,7 @@ pub fn plot_spacetime(analysis: &LatticeAnalysis, path: &Path) -> anyhow::Result
             root.draw(&Rectangle::new(
                 [(x0, y0), (x0 + px as i32, y0 + py as i32)],
                 RGBColor(g, g, g).filled(),
-            ))
-            .map_err(err)?;
+            ))?;
         }
         let font = ("sans-serif", 13).into_font();
         let first = steps.first().copied().unwrap_or(0);
@@ -806,8 +801,7 @@ pub fn plot_spacetime(analysis: &LatticeAnalysis, path: &Path) -> anyhow::Result
             format!("step {first} .. {last} ->"),
             (left as i32, (h - bottom + 12) as i32),
             font.clone(),
-        ))
-        .map_err(err)?;
+        ))?;
         root.draw(&Text::new(
             format!(
                 "bins 0..{} (gravity down), gray {lo}..{hi}",
@@ -815,52 +809,7 @@ pub fn plot_spacetime(analysis: &LatticeAnalysis, path: &Path) -> anyhow::Result
             ),
             (left as i32, (h - bottom + 30) as i32),
             font,
-        ))
-        .map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    let bytes = encode_png(&buf, w, h)?;
-    crate::sweep::write_atomic(path, &bytes)?;
-    Ok(())
-}
-
-/// Register the embedded DejaVu Sans Mono (src/sweep/fonts, free licence) as "sans-serif", so
-/// that pictures need no system fonts (as `sweep::phase` does).
-fn register_font() {
-    static ONCE: std::sync::Once = std::sync::Once::new();
-    ONCE.call_once(|| {
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            include_bytes!("../sweep/fonts/DejaVuSansMono.ttf"),
-        );
-    });
-}
-
-/// Encode 8-bit RGB pixels as a PNG: signature, IHDR, one zlib-compressed IDAT of the
-/// scanlines (filter type 0 each), IEND; every chunk ends with the CRC-32 of type and data.
-fn encode_png(rgb: &[u8], w: u32, h: u32) -> std::io::Result<Vec<u8>> {
-    use std::io::Write;
-    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
-        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
-        let start = out.len();
-        out.extend_from_slice(kind);
-        out.extend_from_slice(data);
-        let crc = crc32fast::hash(&out[start..]);
-        out.extend_from_slice(&crc.to_be_bytes());
-    }
-    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
-    let mut ihdr = Vec::with_capacity(13);
-    ihdr.extend_from_slice(&w.to_be_bytes());
-    ihdr.extend_from_slice(&h.to_be_bytes());
-    ihdr.extend_from_slice(&[8, 2, 0, 0, 0]); // 8 bit, RGB, deflate, filter 0, no interlace
-    chunk(&mut out, b"IHDR", &ihdr);
-    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
-    for row in rgb.chunks(3 * w as usize) {
-        z.write_all(&[0])?;
-        z.write_all(row)?;
-    }
-    chunk(&mut out, b"IDAT", &z.finish()?);
-    chunk(&mut out, b"IEND", &[]);
-    Ok(out)
+        ))?;
+        Ok(())
+    })
 }

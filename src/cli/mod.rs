@@ -6,6 +6,7 @@ mod gather;
 mod params;
 mod phase_diagram;
 mod plan;
+mod plot;
 mod run;
 mod sim;
 mod slurm;
@@ -41,6 +42,8 @@ pub enum Command {
     Gather(gather::GatherArgs),
     /// Print and plot (PNG, SVG) the structure labels over two swept parameters.
     PhaseDiagram(phase_diagram::PhaseDiagramArgs),
+    /// Plot a column of the jobs table over a swept parameter, one curve per value of another.
+    Plot(plot::PlotArgs),
     /// Run a sweep on a Slurm cluster as job arrays (submit), or show it in Slurm (status).
     Slurm(slurm::SlurmArgs),
 }
@@ -69,6 +72,7 @@ pub fn main() -> ExitCode {
         Command::Status(args) => status::run(args),
         Command::Gather(args) => gather::run(args),
         Command::PhaseDiagram(args) => phase_diagram::run(args),
+        Command::Plot(args) => plot::run(args),
         Command::Slurm(args) => slurm::run(args),
     };
     match result {

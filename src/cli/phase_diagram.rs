@@ -1,5 +1,6 @@
 //! `granflow phase-diagram results/<sweep> --x P [--y Q]`: print the grid of structure labels
-//! and write PNG and SVG plots into the results directory.
+//! and write PNG and SVG plots into the results directory; with `--minimum-of C --along R`
+//! the grid of where column C has an interior minimum along parameter R.
 
 use super::source::SweepSource;
 use crate::sweep::phase::{PhaseDiagram, swept_in};
@@ -17,6 +18,14 @@ pub struct PhaseDiagramArgs {
     /// parameter along y (default: the second swept one; none gives a strip)
     #[arg(long)]
     pub y: Option<String>,
+    /// instead of structure labels, whether this jobs-table column has an interior minimum
+    /// along `--along` in each cell (e.g. --minimum-of flow_rate_hat --along knudsen_number:
+    /// the Knudsen-minimum diagram, Gupta 2017 Fig. 4.1)
+    #[arg(long, requires = "along", value_name = "COLUMN")]
+    pub minimum_of: Option<String>,
+    /// the parameter the curves of `--minimum-of` run along (judged in log scale)
+    #[arg(long, requires = "minimum_of", value_name = "PARAMETER")]
+    pub along: Option<String>,
 }
 
 /// Write `phase-<x>[-<y>].png` and `.svg` into `dir`; returns their paths.
@@ -36,6 +45,12 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let jobs = tables::collect(&sweep, &dirs);
     let swept = swept_in(&sweep);
+    let axes: Vec<&str> = swept
+        .iter()
+        .copied()
+        .filter(|s| Some(*s) != args.along.as_deref())
+        .collect();
+    let swept = axes;
     let x = match args
         .x
         .clone()
@@ -65,7 +80,19 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
             .into());
         }
     }
-    let diagram = PhaseDiagram::build(sweep.engine(), &jobs, &x, y.as_deref()).map_err(BadInput)?;
+    let diagram = match (&args.minimum_of, &args.along) {
+        (Some(column), Some(along)) => crate::sweep::curves::minimum_diagram(
+            sweep.engine(),
+            &jobs,
+            along,
+            column,
+            &x,
+            y.as_deref(),
+            true,
+        ),
+        _ => PhaseDiagram::build(sweep.engine(), &jobs, &x, y.as_deref()),
+    }
+    .map_err(BadInput)?;
     let others: Vec<_> = swept
         .iter()
         .filter(|s| **s != x && Some(**s) != y.as_deref())
@@ -74,7 +101,23 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
         println!("note: {others:?} also vary; their jobs share cells (labels joined by /)");
     }
     print!("{}", diagram.table());
-    let (png, svg) = write_plots(&diagram, &dirs.tables)?;
+    let (png, svg) = match &args.minimum_of {
+        Some(column) => {
+            let stem = format!("minimum-{column}-{}", diagram.x);
+            let stem = match &diagram.y {
+                Some(y) => format!("{stem}-{y}"),
+                None => stem,
+            };
+            let (png, svg) = (
+                dirs.tables.join(format!("{stem}.png")),
+                dirs.tables.join(format!("{stem}.svg")),
+            );
+            diagram.write_png(&png)?;
+            diagram.write_svg(&svg)?;
+            (png, svg)
+        }
+        None => write_plots(&diagram, &dirs.tables)?,
+    };
     println!("plots: {} {}", png.display(), svg.display());
     Ok(())
 }

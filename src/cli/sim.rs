@@ -133,8 +133,8 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
                 )
             } else {
                 format!(
-                    "{origin}: `{key}` is a parameter of the {} engine, not of {} (use --engine)",
-                    others.join(", "),
+                    "{origin}: `{key}` is a parameter of {}, not of {} (use --engine)",
+                    crate::engine::registry::engines_phrase(&others),
                     engine.name
                 )
             }));
@@ -289,7 +289,11 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
         s.progress.events as f64 / secs
     );
     if args.analyse {
-        match plan.analyser.analyse(&records) {
+        match plan
+            .analyser
+            .analyse(&records)
+            .map_err(anyhow::Error::msg)?
+        {
             Analysis::Structure(a) => print_structure(&a),
             other => print_summary(&other),
         }

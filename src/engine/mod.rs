@@ -223,10 +223,13 @@ pub struct Lattice {
 /// What a snapshot holds, by kind of engine.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Content {
-    /// spheres (hard-sphere MD, DSMC, DEM)
+    /// spheres (hard-sphere MD, DEM)
     Particles(Particles),
     /// a lattice gas
     Lattice(Lattice),
+    /// a sampled rarefied gas (DSMC): the cell moments and balances summed since the previous
+    /// snapshot, with the run's constants
+    Sampled(Box<dsmc::channel::Sample>),
 }
 
 /// The state of an engine at one time, with its clocks and counters. Analyses consume it;
@@ -251,7 +254,7 @@ impl Snapshot {
     pub fn particles(&self) -> Option<&Particles> {
         match &self.content {
             Content::Particles(p) => Some(p),
-            Content::Lattice(_) => None,
+            _ => None,
         }
     }
 
@@ -259,7 +262,7 @@ impl Snapshot {
     pub fn particles_mut(&mut self) -> Option<&mut Particles> {
         match &mut self.content {
             Content::Particles(p) => Some(p),
-            Content::Lattice(_) => None,
+            _ => None,
         }
     }
 
@@ -267,7 +270,15 @@ impl Snapshot {
     pub fn lattice(&self) -> Option<&Lattice> {
         match &self.content {
             Content::Lattice(l) => Some(l),
-            Content::Particles(_) => None,
+            _ => None,
+        }
+    }
+
+    /// The sampled moments, for DSMC.
+    pub fn sampled(&self) -> Option<&dsmc::channel::Sample> {
+        match &self.content {
+            Content::Sampled(s) => Some(s),
+            _ => None,
         }
     }
 }

@@ -5,7 +5,11 @@
 use super::EngineDef;
 
 /// Every engine, in the order `granflow engines` lists them.
-pub static ENGINES: &[&EngineDef] = &[&super::edmd::DECLARATION, &super::lga::DECLARATION];
+pub static ENGINES: &[&EngineDef] = &[
+    &super::edmd::DECLARATION,
+    &super::lga::DECLARATION,
+    &super::dsmc::DECLARATION,
+];
 
 /// The engine of this name.
 pub fn find(name: &str) -> Option<&'static EngineDef> {
@@ -28,4 +32,14 @@ pub fn engines_with_param(name: &str, except: &str) -> Vec<&'static str> {
         .filter(|e| e.name != except && e.param(name).is_some())
         .map(|e| e.name)
         .collect()
+}
+
+/// `the "edmd" engine`, `the "edmd" and "dsmc" engines`, `the "a", "b" and "c" engines`.
+pub fn engines_phrase(names: &[&str]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+    match quoted.as_slice() {
+        [] => "no engine".into(),
+        [one] => format!("the {one} engine"),
+        [init @ .., last] => format!("the {} and {last} engines", init.join(", ")),
+    }
 }

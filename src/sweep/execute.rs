@@ -143,7 +143,9 @@ pub fn run_job(
         );
     }
     let snap = engine.snapshot();
-    let analysis = analyser.analyse(&records);
+    let analysis = analyser
+        .analyse(&records)
+        .map_err(|e| anyhow::anyhow!("analysing the job's {} records: {e}", records.len()))?;
     analysis.write_figures(dir)?;
     let wall_seconds = wall_before + started.elapsed().as_secs_f64();
     let def = job.params.def();

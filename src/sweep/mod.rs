@@ -12,6 +12,7 @@
 //! - [`runner::run_sweep`]: the rayon pool with progress bars and a single writer;
 //! - [`tables::gather`]: write the Parquet tables of a results directory.
 
+pub mod curves;
 pub mod execute;
 pub mod grid;
 pub mod job;

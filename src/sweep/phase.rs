@@ -343,33 +343,12 @@ impl PhaseDiagram {
 
     /// Write the diagram as SVG.
     pub fn write_svg(&self, path: &Path) -> anyhow::Result<()> {
-        let size = self.size();
-        let mut text = String::new();
-        {
-            let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
-            self.draw(&root)
-                .map_err(|e| anyhow::anyhow!("drawing the SVG: {e}"))?;
-            root.present()
-                .map_err(|e| anyhow::anyhow!("drawing the SVG: {e}"))?;
-        }
-        super::write_atomic(path, text.as_bytes())?;
-        Ok(())
+        crate::figure::save_svg(path, self.size(), |root| self.draw(root))
     }
 
     /// Write the diagram as PNG (RGB, 8 bit).
     pub fn write_png(&self, path: &Path) -> anyhow::Result<()> {
-        let (w, h) = self.size();
-        let mut buf = vec![255u8; (w * h * 3) as usize];
-        {
-            let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-            self.draw(&root)
-                .map_err(|e| anyhow::anyhow!("drawing the PNG: {e}"))?;
-            root.present()
-                .map_err(|e| anyhow::anyhow!("drawing the PNG: {e}"))?;
-        }
-        let bytes = encode_png(&buf, w, h)?;
-        super::write_atomic(path, &bytes)?;
-        Ok(())
+        crate::figure::save_png(path, self.size(), |root| self.draw(root))
     }
 
     fn size(&self) -> (u32, u32) {
@@ -382,7 +361,6 @@ impl PhaseDiagram {
         &self,
         root: &DrawingArea<DB, Shift>,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        register_font();
         root.fill(&WHITE)?;
         let (w, h) = root.dim_in_pixel();
         let (left, right, top, bottom) = (100i32, 170i32, 30i32, 70i32);
@@ -537,49 +515,18 @@ fn draw_marker<DB: DrawingBackend>(
             red.filled(),
         )),
         "no waves" => root.draw(&Circle::new((x, y), r, grey.stroke_width(2))),
+        // DSMC: a valid steady run; where a curve has an interior minimum, or none
+        "steady" => root.draw(&Circle::new((x, y), r, blue.filled())),
+        "minimum" => root.draw(&Polygon::new(
+            vec![(x - r - 1, y - r), (x + r + 1, y - r), (x, y + r + 2)],
+            red.filled(),
+        )),
+        "monotonic" => root.draw(&Rectangle::new(
+            [(x - r, y - r), (x + r, y + r)],
+            grey.stroke_width(2),
+        )),
         _ => root.draw(&Circle::new((x, y), r, purple.stroke_width(2))),
     }
-}
-
-fn register_font() {
-    static ONCE: std::sync::Once = std::sync::Once::new();
-    ONCE.call_once(|| {
-        // DejaVu Sans Mono (free licence, see src/sweep/fonts/LICENSE): embedded so that the
-        // PNG needs no system fonts
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            include_bytes!("fonts/DejaVuSansMono.ttf"),
-        );
-    });
-}
-
-/// Encode 8-bit RGB pixels as a PNG: signature, IHDR, one zlib-compressed IDAT of the scanlines
-/// (filter type 0 each), IEND; every chunk ends with the CRC-32 of its type and data.
-fn encode_png(rgb: &[u8], w: u32, h: u32) -> std::io::Result<Vec<u8>> {
-    use std::io::Write;
-    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
-        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
-        let start = out.len();
-        out.extend_from_slice(kind);
-        out.extend_from_slice(data);
-        let crc = crc32fast::hash(&out[start..]);
-        out.extend_from_slice(&crc.to_be_bytes());
-    }
-    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
-    let mut ihdr = Vec::with_capacity(13);
-    ihdr.extend_from_slice(&w.to_be_bytes());
-    ihdr.extend_from_slice(&h.to_be_bytes());
-    ihdr.extend_from_slice(&[8, 2, 0, 0, 0]); // 8 bit, RGB, deflate, filter 0, no interlace
-    chunk(&mut out, b"IHDR", &ihdr);
-    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
-    for row in rgb.chunks(3 * w as usize) {
-        z.write_all(&[0])?;
-        z.write_all(row)?;
-    }
-    chunk(&mut out, b"IDAT", &z.finish()?);
-    chunk(&mut out, b"IEND", &[]);
-    Ok(out)
 }
 
 /// A parameter value as written in tables and plots (numbers in shortest round-trip form,

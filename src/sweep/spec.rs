@@ -483,12 +483,8 @@ fn unknown_key_message(key: &str, engine: &EngineDef) -> String {
         format!("unknown key `{key}` for the {} engine; ", engine.name)
     } else {
         format!(
-            "`{key}` is a parameter of the {} engine, not of the {} engine; ",
-            others
-                .iter()
-                .map(|e| format!("\"{e}\""))
-                .collect::<Vec<_>>()
-                .join(", "),
+            "`{key}` is a parameter of {}, not of the {} engine; ",
+            registry::engines_phrase(&others),
             engine.name
         )
     }

@@ -26,8 +26,8 @@
 pub mod fields;
 pub mod steady;
 
-use crate::engine::dsmc::sampling::{IntervalSums, MOMENTS, Moments, moment as mo};
-use crate::engine::dsmc::{Balances, DsmcEngine, WallModel};
+use crate::engine::dsmc::sampling::{MOMENTS, Moments, moment as mo};
+use crate::engine::dsmc::{Balances, DsmcEngine};
 use fields::{CellFields, Scales, add_moments, cell_fields};
 use serde::{Deserialize, Serialize};
 use steady::{RecordTrace, mean_and_error};
@@ -79,34 +79,13 @@ impl RarefiedSettings {
     }
 }
 
-/// What one snapshot contributes: the constants of the run and the interval's sums.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RarefiedRecord {
-    /// Kn
-    pub knudsen_number: f64,
-    /// a-hat
-    pub forcing: f64,
-    pub wall_model: WallModel,
-    /// [m_1, m_2]
-    pub masses: [f64; 2],
-    /// simulators of each species
-    pub counts: [u64; 2],
-    /// moments and balances of the interval since the previous record
-    pub sums: IntervalSums,
-}
+/// What one snapshot contributes: the constants of the run and the interval's sums (the
+/// engine's [`Sample`](crate::engine::dsmc::channel::Sample)).
+pub use crate::engine::dsmc::channel::Sample as RarefiedRecord;
 
 /// Take the engine's sampling interval (read and reset) as a record.
 pub fn record(engine: &mut DsmcEngine) -> RarefiedRecord {
-    let p = engine.params().clone();
-    let counts = engine.species_counts();
-    RarefiedRecord {
-        knudsen_number: p.knudsen_number,
-        forcing: p.forcing,
-        wall_model: p.wall_model,
-        masses: p.masses(),
-        counts: [counts[0] as u64, counts[1] as u64],
-        sums: engine.take_interval(),
-    }
+    engine.take_sample()
 }
 
 /// A value with its statistical error (standard error of the block values; NaN when the
@@ -118,7 +97,7 @@ pub struct Estimate {
 }
 
 /// One job's summary.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct RarefiedSummary {
     /// the steady rule passed
     pub steady: bool,
@@ -261,6 +240,42 @@ pub struct RarefiedProfileRow {
     /// u_x,s / u_c
     pub species1_velocity: f64,
     pub species2_velocity: f64,
+}
+
+impl RarefiedProfileRow {
+    /// The values in field order (the columns of the `profiles` table).
+    pub fn values(&self) -> [f64; 28] {
+        [
+            self.y,
+            self.density,
+            self.density_error,
+            self.velocity,
+            self.velocity_error,
+            self.velocity_hat,
+            self.temperature,
+            self.temperature_error,
+            self.temperature_over_centre,
+            self.pressure,
+            self.pxx,
+            self.pyy,
+            self.pzz,
+            self.pxy,
+            self.pxy_error,
+            self.qx,
+            self.qx_error,
+            self.qy,
+            self.qy_error,
+            self.n1,
+            self.n2,
+            self.local_knudsen,
+            self.species1_density,
+            self.species2_density,
+            self.species1_temperature,
+            self.species2_temperature,
+            self.species1_velocity,
+            self.species2_velocity,
+        ]
+    }
 }
 
 /// One job's analysis.

@@ -183,6 +183,23 @@ struct Scratch {
     sorted: Vec<Simulator>,
 }
 
+/// What a snapshot of the channel carries: the run's constants and the sampling interval
+/// since the previous snapshot (what the rarefied analysis records).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    /// Kn
+    pub knudsen_number: f64,
+    /// a-hat
+    pub forcing: f64,
+    pub wall_model: WallModel,
+    /// [m_1, m_2]
+    pub masses: [f64; 2],
+    /// simulators of each species
+    pub counts: [u64; 2],
+    /// moments and balances of the interval
+    pub sums: IntervalSums,
+}
+
 /// The DSMC channel engine.
 #[derive(Clone, Debug)]
 pub struct DsmcEngine {
@@ -284,7 +301,6 @@ impl DsmcEngine {
     pub fn counters(&self) -> Vec<(&'static str, u64)> {
         let c = &self.state.counters;
         vec![
-            ("steps", c.steps),
             ("moves", c.moves),
             ("candidates", c.candidates),
             ("collisions", c.collisions),
@@ -353,6 +369,19 @@ impl DsmcEngine {
         done.kinetic_energy[1] = self.state.interval.kinetic_energy[0];
         done.momentum_x[1] = self.state.interval.momentum_x[0];
         done
+    }
+
+    /// Read and reset the sampling interval as a [`Sample`] with the run's constants.
+    pub fn take_sample(&mut self) -> Sample {
+        let counts = self.species_counts();
+        Sample {
+            knudsen_number: self.params().knudsen_number,
+            forcing: self.params().forcing,
+            wall_model: self.params().wall_model,
+            masses: self.params().masses(),
+            counts: [counts[0] as u64, counts[1] as u64],
+            sums: self.take_interval(),
+        }
     }
 
     /// Total kinetic energy sum m |v|^2 / 2 and x-momentum sum m v_x.

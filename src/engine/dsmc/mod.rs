@@ -8,16 +8,19 @@
 //!   (one or two species) driven by a body force between two walls, layer cells, Bird's
 //!   no-time-counter collisions; [`params`] (control parameters), [`walls`] (flights and wall
 //!   models), [`sampling`] (cell moments and balances).
+//! - `declaration`: the channel engine as the registry sees it (`engine: "dsmc"`).
 //! - [`kernel`]: what both share: the contact direction of a hard-sphere collision, the
 //!   smooth inelastic collision rule, portable random deviates.
 
 pub mod channel;
+mod declaration;
 pub mod homogeneous;
 pub mod kernel;
 pub mod params;
 pub mod sampling;
 pub mod walls;
 
-pub use channel::{DsmcChecks, DsmcCounters, DsmcEngine, Simulator};
+pub use channel::{DsmcChecks, DsmcCounters, DsmcEngine, Sample, Simulator};
+pub use declaration::{DECLARATION, WALL_MODELS, params_of};
 pub use params::{DsmcParams, WallModel};
 pub use sampling::{Balances, IntervalSums};

@@ -35,7 +35,7 @@ impl EdmdEngine {
     pub fn particles_now(&mut self) -> Particles {
         match self.snapshot().content {
             Content::Particles(p) => p,
-            Content::Lattice(_) => unreachable!("EDMD snapshots carry particles"),
+            _ => unreachable!("EDMD snapshots carry particles"),
         }
     }
 }

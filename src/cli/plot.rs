@@ -1,0 +1,58 @@
+//! `granflow plot results/<sweep> --x P --y COLUMN [--by Q] [--log-x] [--log-y]`: a summary
+//! column over a swept parameter, one curve per value of another, with error bars; printed as
+//! a table with each curve's minimum and written as PNG and SVG into the results directory.
+
+use super::source::SweepSource;
+use crate::sweep::curves::CurvePlot;
+use crate::sweep::phase::swept_in;
+use crate::sweep::{BadInput, tables};
+use clap::Args;
+
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    #[command(flatten)]
+    pub source: SweepSource,
+    /// parameter along x (a number, e.g. knudsen_number)
+    #[arg(long)]
+    pub x: String,
+    /// a numeric column of jobs.parquet (its `<column>_error` gives the error bars)
+    #[arg(long)]
+    pub y: String,
+    /// one curve per value of this parameter (default: the other swept one, if exactly one)
+    #[arg(long)]
+    pub by: Option<String>,
+    /// logarithmic x axis (and minima refined in log x)
+    #[arg(long)]
+    pub log_x: bool,
+    /// logarithmic y axis
+    #[arg(long)]
+    pub log_y: bool,
+}
+
+pub fn run(args: PlotArgs) -> anyhow::Result<()> {
+    let (sweep, dirs) = args.source.open()?;
+    let jobs = tables::collect(&sweep, &dirs);
+    let swept = swept_in(&sweep);
+    let by = args.by.clone().or_else(|| {
+        let others: Vec<&&str> = swept.iter().filter(|s| **s != args.x).collect();
+        (others.len() == 1).then(|| others[0].to_string())
+    });
+    let mut plot = CurvePlot::build(sweep.engine(), &jobs, &args.x, &args.y, by.as_deref())
+        .map_err(BadInput)?;
+    plot.log_x = args.log_x;
+    plot.log_y = args.log_y;
+    let others: Vec<_> = swept
+        .iter()
+        .filter(|s| **s != args.x && Some(**s) != by.as_deref())
+        .collect();
+    if !others.is_empty() {
+        println!("note: {others:?} also vary; their jobs are averaged into the same points");
+    }
+    print!("{}", plot.table());
+    let png = dirs.tables.join(format!("{}.png", plot.stem()));
+    let svg = dirs.tables.join(format!("{}.svg", plot.stem()));
+    plot.write_png(&png)?;
+    plot.write_svg(&svg)?;
+    println!("plots: {} {}", png.display(), svg.display());
+    Ok(())
+}

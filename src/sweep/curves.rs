@@ -1,0 +1,609 @@
+//! Curves over a swept parameter: a summary column of the jobs table (with its `_error` twin
+//! as error bars) against one parameter, one curve per value of another (`granflow plot`),
+//! printed as a table and drawn as PNG and SVG; the minimum of each curve (grid point and a
+//! parabola through its neighbours); and the diagram of where an interior minimum exists over
+//! two other parameters (the Knudsen-minimum diagram of Gupta 2017, Fig. 4.1), placed on the
+//! phase-diagram grid.
+//!
+//! A point is valid only where its job's method was: a job that is not steady (or whose
+//! collapse guard went beyond its validity) is drawn hollow, marked in the table, and never
+//! decides a minimum.
+
+use super::phase::{Cell, CellJob, PhaseDiagram, fmt_value};
+use super::tables::GatheredJob;
+use crate::engine::{EngineDef, ParamValue};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// One point of a curve: the mean over the jobs (seeds) at one x.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    pub x: f64,
+    pub y: f64,
+    /// standard error: the jobs' own errors combined, sqrt(sum e^2) / n (NaN when the column
+    /// has no `_error` twin)
+    pub error: f64,
+    pub jobs: usize,
+    /// every job at the point was steady with a valid method
+    pub valid: bool,
+}
+
+/// One curve: the points of one value of the `by` parameter, in increasing x.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    pub name: String,
+    pub points: Vec<Point>,
+}
+
+/// Where a curve is smallest among its valid points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Minimum {
+    /// the grid point of the smallest value
+    pub at: f64,
+    pub value: f64,
+    /// the vertex of the parabola through it and its two neighbours (in log x on a log axis);
+    /// None at an end of the curve
+    pub vertex: Option<f64>,
+    /// inside the curve, and below the largest value on each side by more than twice the
+    /// combined standard error (or, without errors, by more than 1 %)
+    pub interior: bool,
+}
+
+/// A plot of `y` over `x`, one series per value of `by`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurvePlot {
+    pub x: String,
+    pub y: String,
+    pub by: Option<String>,
+    pub log_x: bool,
+    pub log_y: bool,
+    pub series: Vec<Series>,
+    /// jobs of the plan not done yet (not drawn)
+    pub not_done: usize,
+}
+
+/// The numeric summary columns of an engine's jobs table (what `--y` may name).
+pub fn numeric_columns(engine: &EngineDef) -> Vec<String> {
+    use crate::analysis::columns::ColumnKind;
+    engine
+        .analysis
+        .summary_columns()
+        .into_iter()
+        .filter(|(_, k)| !matches!(k, ColumnKind::Str | ColumnKind::Bool))
+        .map(|(n, _)| n)
+        .collect()
+}
+
+/// Whether a job's result is valid for plotting: steady, collapse guard within its validity.
+fn valid(summary: &serde_json::Map<String, serde_json::Value>, label: &str) -> bool {
+    let flag = |k: &str| summary.get(k).and_then(|v| v.as_bool());
+    flag("steady").unwrap_or(label != "not-steady") && flag("collapse_guard_valid").unwrap_or(true)
+}
+
+/// Check that `name` is a numeric parameter of the engine.
+fn numeric_param(engine: &EngineDef, name: &str) -> Result<(), String> {
+    match engine.param(name) {
+        None => Err(format!(
+            "`{name}` is not a parameter of the {} engine; allowed: {}",
+            engine.name,
+            engine.param_names()
+        )),
+        Some(d) if matches!(d.kind, crate::engine::declare::ParamKind::Choice(_)) => Err(format!(
+            "`{name}` is a choice, not a number: use it as --by"
+        )),
+        Some(_) => Ok(()),
+    }
+}
+
+/// Combine the jobs at one x into a point.
+fn point(x: f64, values: &[(f64, f64, bool)]) -> Point {
+    let n = values.len() as f64;
+    let y = values.iter().map(|v| v.0).sum::<f64>() / n;
+    let error = values.iter().map(|v| v.1 * v.1).sum::<f64>().sqrt() / n;
+    Point {
+        x,
+        y,
+        error,
+        jobs: values.len(),
+        valid: values.iter().all(|v| v.2),
+    }
+}
+
+impl CurvePlot {
+    /// Gather the points. `x` must be a numeric parameter, `by` any parameter, `y` a numeric
+    /// summary column of the engine's jobs table.
+    pub fn build(
+        engine: &EngineDef,
+        jobs: &[GatheredJob],
+        x: &str,
+        y: &str,
+        by: Option<&str>,
+    ) -> Result<Self, String> {
+        let refs: Vec<&GatheredJob> = jobs.iter().collect();
+        Self::build_of(engine, &refs, x, y, by)
+    }
+
+    fn build_of(
+        engine: &EngineDef,
+        jobs: &[&GatheredJob],
+        x: &str,
+        y: &str,
+        by: Option<&str>,
+    ) -> Result<Self, String> {
+        numeric_param(engine, x)?;
+        if let Some(by) = by
+            && engine.param(by).is_none()
+        {
+            return Err(format!(
+                "`{by}` is not a parameter of the {} engine; allowed: {}",
+                engine.name,
+                engine.param_names()
+            ));
+        }
+        let columns = numeric_columns(engine);
+        if !columns.iter().any(|c| c == y) {
+            let hint = crate::sweep::spec::did_you_mean(y, columns.iter().map(String::as_str))
+                .map(|s| format!(" (did you mean `{s}`?)"))
+                .unwrap_or_default();
+            return Err(format!(
+                "`{y}` is not a numeric column of the {} engine's jobs table{hint}; allowed: {}",
+                engine.name,
+                columns.join(", ")
+            ));
+        }
+        let error_column = format!("{y}_error");
+        // by value -> x -> (y, error, valid) of each job
+        let mut groups: BTreeMap<String, BTreeMap<u64, (f64, Vec<(f64, f64, bool)>)>> =
+            BTreeMap::new();
+        let mut order: Vec<(ParamValue, String)> = Vec::new();
+        let mut not_done = 0;
+        for j in jobs {
+            let Some(r) = &j.result else {
+                not_done += 1;
+                continue;
+            };
+            let Some(xv) = j.job.params.values.get(x).and_then(ParamValue::as_f64) else {
+                continue;
+            };
+            let summary = r.analysis.summary();
+            let Some(yv) = summary.get(y).and_then(|v| v.as_f64()) else {
+                continue;
+            };
+            let ev = summary
+                .get(&error_column)
+                .and_then(|v| v.as_f64())
+                .unwrap_or(f64::NAN);
+            let name = match by.and_then(|b| j.job.params.values.get(b)) {
+                Some(v) => {
+                    let name = fmt_value(v);
+                    if !order.iter().any(|(_, n)| *n == name) {
+                        order.push((v.clone(), name.clone()));
+                    }
+                    name
+                }
+                None => y.to_string(),
+            };
+            let ok = valid(&summary, r.analysis.label().0);
+            groups
+                .entry(name)
+                .or_default()
+                .entry(xv.to_bits())
+                .or_insert((xv, Vec::new()))
+                .1
+                .push((yv, ev, ok));
+        }
+        order.sort_by(|a, b| match (&a.0, &b.0) {
+            (ParamValue::Number(p), ParamValue::Number(q)) => p.total_cmp(q),
+            _ => a.1.cmp(&b.1),
+        });
+        let names: Vec<String> = if by.is_some() {
+            order.into_iter().map(|(_, n)| n).collect()
+        } else {
+            groups.keys().cloned().collect()
+        };
+        let series = names
+            .into_iter()
+            .filter_map(|name| {
+                let g = groups.remove(&name)?;
+                let mut points: Vec<Point> = g.into_values().map(|(x, v)| point(x, &v)).collect();
+                points.sort_by(|a, b| a.x.total_cmp(&b.x));
+                Some(Series { name, points })
+            })
+            .collect();
+        Ok(CurvePlot {
+            x: x.into(),
+            y: y.into(),
+            by: by.map(str::to_string),
+            log_x: false,
+            log_y: false,
+            series,
+            not_done,
+        })
+    }
+
+    /// The points as a text table (one block per series, invalid points marked), with each
+    /// curve's minimum.
+    pub fn table(&self) -> String {
+        let mut out = String::new();
+        for s in &self.series {
+            if let Some(by) = &self.by {
+                out.push_str(&format!("{by} = {}\n", s.name));
+            }
+            out.push_str(&format!(
+                "  {:>12}  {:>14}  {:>12}  jobs\n",
+                self.x, self.y, "error"
+            ));
+            for p in &s.points {
+                out.push_str(&format!(
+                    "  {:>12}  {:>14.6}  {:>12.3e}  {}{}\n",
+                    fmt_value(&ParamValue::Number(p.x)),
+                    p.y,
+                    p.error,
+                    p.jobs,
+                    if p.valid {
+                        ""
+                    } else {
+                        "  not steady: not a result"
+                    }
+                ));
+            }
+            match minimum(&s.points, self.log_x) {
+                Some(m) if m.interior => out.push_str(&format!(
+                    "  interior minimum at {} = {} ({} = {:.6}){}\n",
+                    self.x,
+                    fmt_value(&ParamValue::Number(m.at)),
+                    self.y,
+                    m.value,
+                    m.vertex
+                        .map(|v| format!(", parabola vertex {v:.3}"))
+                        .unwrap_or_default()
+                )),
+                Some(m) => out.push_str(&format!(
+                    "  no interior minimum (smallest at {} = {})\n",
+                    self.x,
+                    fmt_value(&ParamValue::Number(m.at))
+                )),
+                None => out.push_str("  no valid points\n"),
+            }
+        }
+        if self.not_done > 0 {
+            out.push_str(&format!("({} jobs not done)\n", self.not_done));
+        }
+        out
+    }
+
+    /// The file stem `plot-<y>-<x>[-by-<by>]`.
+    pub fn stem(&self) -> String {
+        match &self.by {
+            Some(by) => format!("plot-{}-{}-by-{by}", self.y, self.x),
+            None => format!("plot-{}-{}", self.y, self.x),
+        }
+    }
+
+    /// Write the plot as PNG.
+    pub fn write_png(&self, path: &Path) -> anyhow::Result<()> {
+        crate::figure::save_png(path, (820, 560), |root| self.draw(root))
+    }
+
+    /// Write the plot as SVG.
+    pub fn write_svg(&self, path: &Path) -> anyhow::Result<()> {
+        crate::figure::save_svg(path, (820, 560), |root| self.draw(root))
+    }
+
+    fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+        let pts = || self.series.iter().flat_map(|s| s.points.iter());
+        let usable = |v: f64, log: bool| v.is_finite() && (!log || v > 0.0);
+        let span = |vals: Vec<f64>, log: bool| -> (f64, f64) {
+            let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            if !lo.is_finite() {
+                return if log { (0.1, 10.0) } else { (0.0, 1.0) };
+            }
+            if log {
+                let (a, b) = (lo.ln(), hi.ln().max(lo.ln() + 1e-3));
+                let pad = 0.05 * (b - a);
+                ((a - pad).exp(), (b + pad).exp())
+            } else {
+                let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1.0));
+                (lo - pad, hi + pad)
+            }
+        };
+        let xs: Vec<f64> = pts()
+            .map(|p| p.x)
+            .filter(|&v| usable(v, self.log_x))
+            .collect();
+        let mut ys: Vec<f64> = Vec::new();
+        for p in pts() {
+            let e = if p.error.is_finite() { p.error } else { 0.0 };
+            for v in [p.y - e, p.y + e] {
+                if usable(v, self.log_y) {
+                    ys.push(v);
+                }
+            }
+        }
+        (span(xs, self.log_x), span(ys, self.log_y))
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        root.fill(&WHITE)?;
+        let ((x0, x1), (y0, y1)) = self.ranges();
+        let caption = match &self.by {
+            Some(by) => format!("{} over {} by {by}", self.y, self.x),
+            None => format!("{} over {}", self.y, self.x),
+        };
+        // four coordinate kinds (linear or log on each axis) share one drawing routine
+        macro_rules! chart {
+            ($xr:expr, $yr:expr) => {{
+                let mut chart = ChartBuilder::on(root)
+                    .caption(caption.clone(), ("sans-serif", 18))
+                    .margin(14)
+                    .x_label_area_size(42)
+                    .y_label_area_size(70)
+                    .build_cartesian_2d($xr, $yr)?;
+                chart
+                    .configure_mesh()
+                    .x_desc(self.x.clone())
+                    .y_desc(self.y.clone())
+                    .label_style(("sans-serif", 13))
+                    .draw()?;
+                self.draw_series(&mut chart)?;
+            }};
+        }
+        match (self.log_x, self.log_y) {
+            (false, false) => chart!(x0..x1, y0..y1),
+            (true, false) => chart!((x0..x1).log_scale(), y0..y1),
+            (false, true) => chart!(x0..x1, (y0..y1).log_scale()),
+            (true, true) => chart!((x0..x1).log_scale(), (y0..y1).log_scale()),
+        }
+        Ok(())
+    }
+
+    fn draw_series<'a, DB, CT>(
+        &self,
+        chart: &mut ChartContext<'a, DB, CT>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>
+    where
+        DB: DrawingBackend + 'a,
+        CT: CoordTranslate<From = (f64, f64)>,
+    {
+        let mut any_invalid = false;
+        for (i, s) in self.series.iter().enumerate() {
+            let colour = Palette99::pick(i).to_rgba();
+            let drawable: Vec<&Point> = s
+                .points
+                .iter()
+                .filter(|p| p.y.is_finite() && (!self.log_x || p.x > 0.0))
+                .collect();
+            let valid_line: Vec<(f64, f64)> = drawable
+                .iter()
+                .filter(|p| p.valid)
+                .map(|p| (p.x, p.y))
+                .collect();
+            let label = match &self.by {
+                Some(by) => format!("{by} = {}", s.name),
+                None => s.name.clone(),
+            };
+            chart
+                .draw_series(LineSeries::new(valid_line, colour.stroke_width(2)))?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                });
+            for p in &drawable {
+                if p.error.is_finite() && p.error > 0.0 {
+                    chart.draw_series(std::iter::once(PathElement::new(
+                        vec![(p.x, p.y - p.error), (p.x, p.y + p.error)],
+                        colour.stroke_width(1),
+                    )))?;
+                }
+                let style = if p.valid {
+                    colour.filled()
+                } else {
+                    any_invalid = true;
+                    colour.stroke_width(1)
+                };
+                chart.draw_series(std::iter::once(Circle::new((p.x, p.y), 4, style)))?;
+            }
+        }
+        if any_invalid {
+            let grey = RGBColor(90, 90, 90);
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
+                .label("hollow: not steady (not a result)")
+                .legend(move |(x, y)| Circle::new((x + 9, y), 4, grey.stroke_width(1)));
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()?;
+        Ok(())
+    }
+}
+
+/// The minimum of a curve over its valid points (in increasing x); None without valid points.
+pub fn minimum(points: &[Point], log_x: bool) -> Option<Minimum> {
+    let pts: Vec<&Point> = points
+        .iter()
+        .filter(|p| p.valid && p.y.is_finite())
+        .collect();
+    let (i, best) = pts
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.y.total_cmp(&b.1.y))?;
+    let at_end = i == 0 || i + 1 == pts.len();
+    let clear_below = |side: &[&Point]| {
+        side.iter().any(|p| {
+            let e = (p.error * p.error + best.error * best.error).sqrt();
+            let margin = if e.is_finite() && e > 0.0 {
+                2.0 * e
+            } else {
+                0.01 * best.y.abs()
+            };
+            p.y - best.y > margin
+        })
+    };
+    let interior = !at_end && clear_below(&pts[..i]) && clear_below(&pts[i + 1..]);
+    let vertex = if at_end {
+        None
+    } else {
+        let t = |x: f64| if log_x { x.ln() } else { x };
+        let (a, b, c) = (pts[i - 1], pts[i], pts[i + 1]);
+        let (xa, xb, xc) = (t(a.x), t(b.x), t(c.x));
+        // vertex of the parabola through three points (Lagrange form)
+        let num = (xb - xa).powi(2) * (b.y - c.y) - (xb - xc).powi(2) * (b.y - a.y);
+        let den = (xb - xa) * (b.y - c.y) - (xb - xc) * (b.y - a.y);
+        (den != 0.0).then(|| {
+            let v = xb - 0.5 * num / den;
+            if log_x { v.exp() } else { v }
+        })
+    };
+    Some(Minimum {
+        at: best.x,
+        value: best.y,
+        vertex,
+        interior,
+    })
+}
+
+/// The diagram of where `y` has an interior minimum along `along`, over the parameters `x`
+/// and `y_axis` (each cell: the jobs sharing its values, one curve per value of every other
+/// swept parameter merged by mean). Labels: "minimum" (an interior minimum), "monotonic"
+/// (none), "not-steady" (a point of the curve is not a result).
+pub fn minimum_diagram(
+    engine: &EngineDef,
+    jobs: &[GatheredJob],
+    along: &str,
+    column: &str,
+    x: &str,
+    y: Option<&str>,
+    log_along: bool,
+) -> Result<PhaseDiagram, String> {
+    numeric_param(engine, along)?;
+    for name in std::iter::once(x).chain(y) {
+        if name == along {
+            return Err(format!(
+                "`{along}` is the curve's axis (--along): the diagram's axes must be others"
+            ));
+        }
+    }
+    // the phase-diagram grid places the jobs; each cell's jobs make one curve
+    let mut diagram = PhaseDiagram::build(engine, jobs, x, y)?;
+    let index = |axis: &[ParamValue], j: &GatheredJob, name: &str| {
+        j.job
+            .params
+            .values
+            .get(name)
+            .and_then(|v| axis.iter().position(|a| a == v))
+            .unwrap_or(0)
+    };
+    let mut by_cell: BTreeMap<(usize, usize), Vec<&GatheredJob>> = BTreeMap::new();
+    for j in jobs {
+        let key = (
+            index(&diagram.xs, j, x),
+            y.map_or(0, |y| index(&diagram.ys, j, y)),
+        );
+        by_cell.entry(key).or_default().push(j);
+    }
+    for (key, cell_jobs) in by_cell {
+        let curve = CurvePlot::build_of(engine, &cell_jobs, along, column, None)?;
+        let points: Vec<Point> = curve.series.into_iter().flat_map(|s| s.points).collect();
+        let not_done = curve.not_done;
+        let steady = !points.is_empty() && points.iter().all(|p| p.valid);
+        let label = match minimum(&points, log_along) {
+            _ if !steady => "not-steady",
+            Some(m) if m.interior => "minimum",
+            _ => "monotonic",
+        };
+        diagram.cells.insert(
+            key,
+            Cell {
+                jobs: if points.is_empty() {
+                    Vec::new()
+                } else {
+                    vec![CellJob {
+                        label: label.into(),
+                        humps: 0,
+                        probabilities: Vec::new(),
+                        weight: 1.0,
+                        steady,
+                        guard_valid: true,
+                    }]
+                },
+                not_done,
+            },
+        );
+    }
+    Ok(diagram)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: f64, y: f64, error: f64) -> Point {
+        Point {
+            x,
+            y,
+            error,
+            jobs: 1,
+            valid: true,
+        }
+    }
+
+    #[test]
+    fn an_interior_minimum_is_found_and_its_vertex_refined() {
+        // y = (ln x)^2 + 1 sampled at x = 0.1 ... 10: minimum at x = 1, vertex exactly 1 in log x
+        let pts: Vec<Point> = [0.1, 0.3, 1.0, 3.0, 10.0]
+            .iter()
+            .map(|&x: &f64| p(x, x.ln().powi(2) + 1.0, 0.01))
+            .collect();
+        let m = minimum(&pts, true).unwrap();
+        assert_eq!(m.at, 1.0);
+        assert!(m.interior);
+        // the three points around x = 1 are symmetric in ln x: the vertex is x = 1
+        assert!((m.vertex.unwrap() - 1.0).abs() < 1e-12, "{m:?}");
+    }
+
+    #[test]
+    fn a_dip_within_the_errors_is_not_a_minimum() {
+        // a flat curve with a dip of 1 error bar: not a minimum
+        let pts = vec![p(0.1, 1.0, 0.01), p(1.0, 0.99, 0.01), p(10.0, 1.0, 0.01)];
+        assert!(!minimum(&pts, true).unwrap().interior);
+        // the same dip with errors ten times smaller is one
+        let pts = vec![p(0.1, 1.0, 0.001), p(1.0, 0.99, 0.001), p(10.0, 1.0, 0.001)];
+        assert!(minimum(&pts, true).unwrap().interior);
+    }
+
+    #[test]
+    fn a_monotonic_curve_has_its_smallest_value_at_an_end() {
+        let pts: Vec<Point> = (1..6).map(|i| p(i as f64, 10.0 / i as f64, 0.01)).collect();
+        let m = minimum(&pts, false).unwrap();
+        assert_eq!(m.at, 5.0);
+        assert!(!m.interior && m.vertex.is_none());
+    }
+
+    #[test]
+    fn invalid_points_never_decide_the_minimum() {
+        let mut pts = vec![p(0.1, 2.0, 0.01), p(1.0, 0.5, 0.01), p(10.0, 2.0, 0.01)];
+        pts[1].valid = false;
+        let m = minimum(&pts, true).unwrap();
+        assert!(!m.interior, "{m:?}");
+        assert_eq!(m.value, 2.0);
+    }
+
+    #[test]
+    fn replicas_combine_into_a_mean_with_a_combined_error() {
+        let pt = point(1.0, &[(1.0, 0.1, true), (3.0, 0.1, true)]);
+        assert_eq!(pt.y, 2.0);
+        assert!((pt.error - 0.1 / 2f64.sqrt()).abs() < 1e-15);
+        assert!(point(1.0, &[(1.0, 0.1, true), (3.0, 0.1, false)]).valid == false);
+    }
+}
