@@ -2,19 +2,17 @@
 //! `--set`), survives SIGKILL at random moments and resumes to the same results as an
 //! uninterrupted run, and gives its tables, a space-time picture per job and a phase diagram.
 
+mod common;
+
+use common::{BIN, kill_until_done};
 use granflow::sweep::{load_sweep, store};
 use polars::prelude::*;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
-
-const BIN: &str = env!("CARGO_BIN_EXE_granflow");
+use std::process::Command;
+use std::time::Duration;
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("lga-sweep-{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch(&format!("lga-sweep-{name}"))
 }
 
 fn shipped() -> PathBuf {
@@ -47,13 +45,8 @@ fn run_args(results: &Path) -> Vec<String> {
 }
 
 /// The comparable part of a result: everything except wall-clock figures and times.
-fn deterministic(mut r: store::JobResult) -> String {
-    r.wall_seconds = 0.0;
-    r.events_per_second = 0.0;
-    r.provenance.started.clear();
-    r.provenance.finished.clear();
-    r.checksum.clear();
-    ron::to_string(&r).unwrap()
+fn deterministic(r: store::JobResult) -> String {
+    ron::to_string(&r.without_wall_clock()).unwrap()
 }
 
 #[test]
@@ -76,27 +69,12 @@ fn the_shipped_lga_sweep_runs_resumes_after_kill_9_and_tabulates() {
 
     let results = dir.join("results");
     let killed_dirs = sweep.results_dir(&results);
-    let mut kills = 0u64;
-    let started = Instant::now();
-    while !sweep
-        .plan
-        .iter()
-        .all(|j| killed_dirs.job_dir(&j.id).join(store::RESULT_FILE).exists())
-    {
-        let mut child = Command::new(BIN)
-            .args(run_args(&results))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(Duration::from_millis(150 + 97 * kills));
-        if child.try_wait().unwrap().is_none() {
-            child.kill().unwrap();
-            kills += 1;
-        }
-        child.wait().unwrap();
-        assert!(started.elapsed() < Duration::from_secs(120), "no progress");
-    }
+    let kills = kill_until_done(
+        &sweep,
+        &results,
+        &run_args(&results),
+        Duration::from_secs(120),
+    );
     assert!(kills >= 2, "only {kills} kills");
     // the last rerun may have been killed before writing the tables: gather them
     let out = Command::new(BIN)

@@ -47,6 +47,19 @@ pub struct JobResult {
 }
 
 impl JobResult {
+    /// The result without what depends on the wall clock (seconds, rates, start and finish
+    /// times, and so the checksum): what determinism promises to be bitwise the same for the
+    /// same parameters and seed, whatever the threads and interruptions.
+    pub fn without_wall_clock(&self) -> JobResult {
+        let mut r = self.clone();
+        r.wall_seconds = 0.0;
+        r.events_per_second = 0.0;
+        r.provenance.started.clear();
+        r.provenance.finished.clear();
+        r.checksum.clear();
+        r
+    }
+
     /// The final reading of a clock.
     pub fn clock(&self, clock: crate::engine::Clock) -> f64 {
         match clock {
