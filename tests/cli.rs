@@ -119,3 +119,54 @@ fn a_piped_run_prints_progress_lines() {
         lines[0]
     );
 }
+
+/// `granflow bench --json` keeps its keys (users' scripts read them), for every kind of
+/// workload; numbers are measured (positive), not checked for speed.
+#[test]
+fn bench_json_keeps_its_keys() {
+    let out = granflow(&[
+        "bench",
+        "--json",
+        "--workload",
+        "dsmc-kn1",
+        "--moves",
+        "2e6",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(rows.len(), 1);
+    let row = rows[0].as_object().unwrap();
+    for key in [
+        "workload",
+        "n",
+        "phi",
+        "collisions_per_s",
+        "events_per_s",
+        "bytes_per_particle",
+        "moves_per_s",
+    ] {
+        assert!(row.contains_key(key), "bench --json lacks `{key}`: {row:?}");
+    }
+    assert_eq!(row["n"], 6000);
+    assert!(row["moves_per_s"].as_f64().unwrap() > 0.0);
+    let out = granflow(&[
+        "bench",
+        "--json",
+        "--workload",
+        "lga-fig2",
+        "--site-updates",
+        "1e6",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(rows[0]["site_updates_per_s"].as_f64().unwrap() > 0.0);
+    assert!(rows[0]["phi"].as_f64().is_some());
+}

@@ -4,10 +4,15 @@
 //! `bytes_per_particle` (scripts compare runs with it; keep the keys); the lattice-gas
 //! workloads add `site_updates_per_s` (their `phi` is the mean density rho per site, their
 //! collisions are applications of rules (1)-(5), their events site updates).
+//! The DSMC workloads (the Poiseuille case of issue 15: 6000 simulators in 200 layer cells,
+//! dt = 0.1 mean collision times, e_n = 1, thermal walls) add `moves_per_s` (simulator
+//! flights; also their `events_per_s`); their `collisions_per_s` are accepted collisions and
+//! their `phi` is null (a DSMC gas has no volume fraction).
 //! `bytes_per_particle` is what a particle really costs: the growth of the process's peak
 //! resident memory over the workload (set-up and snapshots included), over N (Linux; elsewhere
 //! the engine's own count of its data structures).
 
+use crate::engine::dsmc::{DsmcEngine, DsmcParams};
 use crate::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement};
 use crate::engine::lga::{LgaEngine, LgaParams};
 use crate::engine::{Engine, StopAt};
@@ -39,6 +44,9 @@ pub struct BenchArgs {
     /// timed site updates of each lattice-gas workload (after 1000 untimed steps)
     #[arg(long, default_value_t = 1e9)]
     pub site_updates: f64,
+    /// timed simulator moves of each DSMC workload (after 500 untimed steps)
+    #[arg(long, default_value_t = 3e8)]
+    pub moves: f64,
 }
 
 /// The neighbour search a benchmark uses.
@@ -66,13 +74,82 @@ impl BenchArgs {
 pub struct BenchResult {
     pub workload: String,
     pub n: usize,
+    /// null (NaN) where it does not apply
+    #[serde(deserialize_with = "null_as_nan")]
     pub phi: f64,
     pub collisions_per_s: f64,
     pub events_per_s: f64,
     pub bytes_per_particle: f64,
     /// lattice gases only
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub site_updates_per_s: Option<f64>,
+    /// DSMC only: simulator moves per second
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moves_per_s: Option<f64>,
+}
+
+/// A number written as null (NaN in JSON) read back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// A DSMC workload: the Poiseuille case at one Kn.
+struct DsmcWorkload {
+    name: &'static str,
+    params: DsmcParams,
+}
+
+/// The case the issue measured SPARTA on: 6000 simulators, 200 cells, dt = 0.1 tau_c, e_n = 1,
+/// thermal walls; sampled every step, or not at all.
+fn dsmc_workloads() -> Vec<DsmcWorkload> {
+    let case = |kn: f64, sample_every: u64| DsmcParams {
+        knudsen_number: kn,
+        cells: 200,
+        particles_per_cell: 30.0,
+        time_step: 0.1,
+        sample_every,
+        ..DsmcParams::default()
+    };
+    vec![
+        DsmcWorkload {
+            name: "dsmc-kn0.1-6000-sampled",
+            params: case(0.1, 1),
+        },
+        DsmcWorkload {
+            name: "dsmc-kn0.1-6000-unsampled",
+            params: case(0.1, u64::MAX / 2),
+        },
+        DsmcWorkload {
+            name: "dsmc-kn1-6000-sampled",
+            params: case(1.0, 1),
+        },
+    ]
+}
+
+/// Time a DSMC workload: 500 untimed steps, then `moves` timed.
+fn measure_dsmc(w: &DsmcWorkload, moves: f64) -> anyhow::Result<BenchResult> {
+    let baseline = memory_baseline();
+    let mut engine = DsmcEngine::new(w.params.clone()).map_err(anyhow::Error::msg)?;
+    engine.advance_to_step(500);
+    let n = engine.species_counts().iter().sum::<usize>();
+    let steps = (moves / n as f64).ceil().max(1.0) as u64;
+    let before = engine.counter_values();
+    let started = Instant::now();
+    engine.advance_to_step(500 + steps);
+    let secs = started.elapsed().as_secs_f64();
+    let after = engine.counter_values();
+    let moves_per_s = (after.moves - before.moves) as f64 / secs;
+    Ok(BenchResult {
+        workload: w.name.to_string(),
+        n,
+        phi: f64::NAN,
+        collisions_per_s: (after.collisions - before.collisions) as f64 / secs,
+        events_per_s: moves_per_s,
+        bytes_per_particle: bytes_per_particle(baseline, n, 64.0),
+        site_updates_per_s: None,
+        moves_per_s: Some(moves_per_s),
+    })
 }
 
 /// A lattice-gas workload: the seed's runs.
@@ -129,6 +206,7 @@ fn measure_lga(w: &LgaWorkload, site_updates: f64) -> anyhow::Result<BenchResult
             engine.bytes() as f64 / n.max(1) as f64,
         ),
         site_updates_per_s: Some(updates),
+        moves_per_s: None,
     })
 }
 
@@ -242,6 +320,7 @@ fn measure(
             engine.bytes_per_particle(),
         ),
         site_updates_per_s: None,
+        moves_per_s: None,
     })
 }
 
@@ -277,6 +356,7 @@ fn measure_isolated(name: &str, args: &BenchArgs) -> anyhow::Result<BenchResult>
         .args(["--channel-warmup", &args.channel_warmup.to_string()])
         .args(["--search", search, "--skin", &args.skin.to_string()])
         .args(["--site-updates", &args.site_updates.to_string()])
+        .args(["--moves", &args.moves.to_string()])
         .stderr(std::process::Stdio::null())
         .output()?;
     anyhow::ensure!(
@@ -307,14 +387,19 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         .into_iter()
         .filter(|w| wanted(w.name))
         .collect();
+    let dsmc: Vec<DsmcWorkload> = dsmc_workloads()
+        .into_iter()
+        .filter(|w| wanted(w.name))
+        .collect();
     anyhow::ensure!(
-        !selected.is_empty() || !lattice.is_empty(),
+        !selected.is_empty() || !lattice.is_empty() || !dsmc.is_empty(),
         "no workload matches {:?}; workloads: {}",
         args.workload.as_deref().unwrap_or(""),
         workloads(&args)
             .iter()
             .map(|w| w.name)
             .chain(lga_workloads().iter().map(|w| w.name))
+            .chain(dsmc_workloads().iter().map(|w| w.name))
             .collect::<Vec<_>>()
             .join(", ")
     );
@@ -330,7 +415,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         );
     }
     // several workloads: each in a process of its own
-    let isolate = selected.len() + lattice.len() > 1;
+    anyhow::ensure!(args.moves > 0.0, "--moves must be > 0");
+    let isolate = selected.len() + lattice.len() + dsmc.len() > 1;
     let mut results = Vec::new();
     for w in &selected {
         let search = args.search_for(&w.params);
@@ -367,6 +453,26 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 r.events_per_s,
                 r.bytes_per_particle,
                 r.site_updates_per_s.unwrap_or(f64::NAN)
+            );
+        }
+        results.push(r);
+    }
+    for w in &dsmc {
+        let r = if isolate {
+            measure_isolated(w.name, &args)?
+        } else {
+            measure_dsmc(w, args.moves)?
+        };
+        if !args.json {
+            println!(
+                "{:<28} {:>7} {:>6} {:>14.4e} {:>14.4e} {:>10.1}  {:.4e} moves/s",
+                r.workload,
+                r.n,
+                "-",
+                r.collisions_per_s,
+                r.events_per_s,
+                r.bytes_per_particle,
+                r.moves_per_s.unwrap_or(f64::NAN)
             );
         }
         results.push(r);
