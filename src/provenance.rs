@@ -48,10 +48,43 @@ impl Provenance {
         }
     }
 
+    /// Why a result made with this provenance is outdated for an engine now at physics version
+    /// `engine_version` whose analysis is at `analysis_version` (None: current). Results from
+    /// before provenance was recorded carry version 0: unknown, so outdated.
+    pub fn outdated(&self, engine_version: u32, analysis_version: u32) -> Option<Outdated> {
+        if self.engine_version != engine_version {
+            Some(Outdated {
+                engine_changed: true,
+                reason: format!(
+                    "made by engine version {}, now {engine_version}",
+                    self.engine_version
+                ),
+            })
+        } else if self.analysis_version != analysis_version {
+            Some(Outdated {
+                engine_changed: false,
+                reason: format!(
+                    "made by analysis version {}, now {analysis_version}",
+                    self.analysis_version
+                ),
+            })
+        } else {
+            None
+        }
+    }
+
     /// "granflow 0.1.0 (abc123def456)".
     pub fn build() -> String {
         format!("granflow {VERSION} ({COMMIT})")
     }
+}
+
+/// Why a result is outdated, and whether its engine changed (then the run is redone from the
+/// start; else only its analysis, from the records of its last checkpoint).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outdated {
+    pub engine_changed: bool,
+    pub reason: String,
 }
 
 /// The host name (Linux: /proc/sys/kernel/hostname; else $HOSTNAME; else "unknown").

@@ -217,3 +217,104 @@ fn tables_are_always_one_consistent_set() {
         .collect();
     assert!(generations.len() <= 2, "{generations:?}");
 }
+
+/// Results made by another engine or analysis version are flagged by `status` (text and
+/// JSON) and rerun by `run --rerun-outdated`: an analysis change reruns only the analysis from
+/// the job's last checkpoint (same records, same analysis), an engine change reruns the job
+/// from the start (bitwise the same result, as the engine did not really change); the old
+/// files are kept as `.outdated-<time>`; current results are left alone.
+#[test]
+fn outdated_results_are_flagged_and_rerun_on_request() {
+    let dir = scratch("outdated");
+    let file = dir.join("o.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"lga\", fixed: (length: 40, width: 5, density: 1.0, dissipation: 0.5),\n axes: (bounce_back: [0.0, 0.5, 1.0]),\n run: (steps: 3000, snapshot_interval: 10, checkpoint_every: 50))",
+    )
+    .unwrap();
+    let results = dir.join("results");
+    let (f, r) = (file.to_str().unwrap(), results.to_str().unwrap());
+    let out = granflow(&["run", f, "--results", r]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sweep = load_sweep(&file, &[]).unwrap();
+    let dirs = sweep.results_dir(&results);
+    let job_dir = |i: usize| dirs.job_dir(&sweep.plan[i].id);
+    let original: Vec<store::JobResult> = (0..3)
+        .map(|i| store::read_result(&job_dir(i)).unwrap())
+        .collect();
+    // job 0 as if made by analysis version 0, job 1 by engine version 0 (resealed: valid files)
+    let mut old = original[0].clone();
+    old.provenance.analysis_version = 0;
+    store::write_result(&job_dir(0), &old).unwrap();
+    let mut old = original[1].clone();
+    old.provenance.engine_version = 0;
+    store::write_result(&job_dir(1), &old).unwrap();
+
+    let out = granflow(&["status", f, "--results", r]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.matches("OUTDATED").count(), 2, "{text}");
+    assert!(
+        text.contains("made by analysis version 0") && text.contains("made by engine version 0")
+    );
+    let out = granflow(&["status", f, "--results", r, "--json"]);
+    let status: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let flags: Vec<bool> = status["jobs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| !j["outdated"].is_null())
+        .collect();
+    assert_eq!(flags, [true, true, false]);
+
+    // a plain run keeps them; --rerun-outdated reruns exactly those two
+    let out = granflow(&["run", f, "--results", r]);
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("3 done, 0 to run")
+            || String::from_utf8_lossy(&out.stdout).contains("3 done, 0 to run")
+    );
+    let out = granflow(&["run", f, "--results", r, "--rerun-outdated"]);
+    let all = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "{all}");
+    assert!(
+        all.contains("2 to run (2 of them outdated results)"),
+        "{all}"
+    );
+    for (i, rerun_from) in [(0, "of the analysis"), (1, "from the start")] {
+        let log = std::fs::read_to_string(job_dir(i).join(store::LOG_FILE)).unwrap();
+        assert!(
+            log.contains(&format!("rerun {rerun_from}")),
+            "job {i}: {log}"
+        );
+        let kept = files_named(&job_dir(i), "result.ron.outdated-");
+        assert_eq!(kept.len(), 1, "job {i}");
+        let new = store::read_result(&job_dir(i)).unwrap();
+        assert_eq!(
+            deterministic(new),
+            deterministic(original[i].clone()),
+            "job {i}"
+        );
+    }
+    // the engine rerun restarted: its checkpoint and records were set aside too
+    assert_eq!(
+        files_named(&job_dir(1), "checkpoint.bin.outdated-").len(),
+        1
+    );
+    assert_eq!(
+        files_named(&job_dir(0), "checkpoint.bin.outdated-").len(),
+        0
+    );
+    let log = std::fs::read_to_string(job_dir(1).join(store::LOG_FILE)).unwrap();
+    assert_eq!(log.matches(" start ").count(), 2, "{log}");
+    // the current job was not touched
+    assert!(files_named(&job_dir(2), "result.ron.outdated-").is_empty());
+    let out = granflow(&["status", f, "--results", r]);
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("OUTDATED"));
+}

@@ -36,6 +36,11 @@ pub struct RunArgs {
     /// damaged ones
     #[arg(long)]
     pub retry_failed: bool,
+    /// run again the done jobs whose result was made by another version of the engine (from
+    /// the start) or of the analysis (only the analysis, from the records of the job's last
+    /// checkpoint); the old files are kept as `<name>.outdated-<time>`
+    #[arg(long)]
+    pub rerun_outdated: bool,
     /// only jobs whose parameters meet this condition: KEY=V, KEY!=V, KEY<V, KEY<=V, KEY>V,
     /// KEY>=V (repeatable: all must hold), e.g. --where width_over_diameter>=30
     #[arg(long = "where", value_name = "CONDITION")]
@@ -137,6 +142,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             .threads
             .unwrap_or_else(|| RunOptions::default().threads),
         retry_failed: args.retry_failed,
+        rerun_outdated: args.rerun_outdated,
         job_range,
         // a --job-range run is one slice of a sweep (a Slurm array task): writing the whole
         // sweep's tables from every slice would cost O(jobs) per task; `gather` does it once

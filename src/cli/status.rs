@@ -67,6 +67,12 @@ fn status_json(
                 "label": label,
                 "label_probability": probability,
                 "error": error,
+                "outdated": j.result.as_ref().and_then(|r| {
+                    let def = j.job.params.def();
+                    r.provenance
+                        .outdated(def.version, def.analysis.version())
+                        .map(|o| o.reason)
+                }),
             })
         })
         .collect();
@@ -122,8 +128,15 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                     .get("collapse_guard_valid")
                     .and_then(|v| v.as_bool())
                     .unwrap_or(true);
+                let def = j.job.params.def();
+                let outdated = r
+                    .provenance
+                    .outdated(def.version, def.analysis.version())
+                    .map_or(String::new(), |o| {
+                        format!("  OUTDATED ({}; `run --rerun-outdated`)", o.reason)
+                    });
                 format!(
-                    "done     {:.0}/{target:.0} {unit}  {}{}{}  {:.1} s  {:.2e} events/s{}",
+                    "done     {:.0}/{target:.0} {unit}  {}{}{}  {:.1} s  {:.2e} events/s{}{outdated}",
                     r.clock(run.clock()),
                     crate::analysis::labels::label_key(label, humps),
                     p.map_or(String::new(), |p| format!(" (p = {p:.2})")),

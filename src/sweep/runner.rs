@@ -19,6 +19,8 @@ pub struct RunOptions {
     pub threads: usize,
     /// retry jobs that failed before
     pub retry_failed: bool,
+    /// rerun done jobs made by another engine or analysis version
+    pub rerun_outdated: bool,
     /// only jobs whose plan index lies in [start, end)
     pub job_range: Option<(usize, usize)>,
     /// write the tables at the end
@@ -33,6 +35,7 @@ impl Default for RunOptions {
         RunOptions {
             threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
             retry_failed: false,
+            rerun_outdated: false,
             job_range: None,
             write_tables: true,
             write_resolved: true,
@@ -55,6 +58,8 @@ pub struct RunSummary {
     pub skipped_failed: usize,
     /// skipped: held by another runner
     pub busy: usize,
+    /// done but outdated, set aside and run again (`rerun_outdated`)
+    pub outdated: usize,
 }
 
 enum Outcome {
@@ -103,6 +108,16 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         // with --retry-failed, done results are read and checked too (damaged ones are then
         // set aside and recomputed)
         match store::job_state_checked(&dir, opts.retry_failed) {
+            JobState::Done if opts.rerun_outdated => {
+                let def = job.params.def();
+                match store::retire_if_outdated(&dir, def.version, def.analysis.version())? {
+                    Some(_) => {
+                        summary.outdated += 1;
+                        todo.push(*job)
+                    }
+                    None => summary.already_done += 1,
+                }
+            }
             JobState::Done => summary.already_done += 1,
             JobState::Failed(_) | JobState::Damaged { .. } if !opts.retry_failed => {
                 summary.skipped_failed += 1
@@ -148,11 +163,16 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     };
     set_overall(summary.already_done);
     say(format!(
-        "sweep {}: {} jobs selected, {} done, {} to run on {} threads (results in {})",
+        "sweep {}: {} jobs selected, {} done, {} to run{} on {} threads (results in {})",
         sweep.name,
         selected.len(),
         summary.already_done,
         todo.len(),
+        if summary.outdated > 0 {
+            format!(" ({} of them outdated results)", summary.outdated)
+        } else {
+            String::new()
+        },
         opts.threads,
         dirs.tables.display()
     ));

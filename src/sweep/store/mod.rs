@@ -16,6 +16,7 @@
 use super::grid::PlannedJob;
 use super::job::{JobId, JobParams};
 use super::write_atomic;
+use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 mod checkpoint;
@@ -167,6 +168,56 @@ pub fn set_aside(dir: &Path, file: &str) -> std::io::Result<PathBuf> {
     let to = dir.join(format!("{file}.damaged-{}", crate::provenance::now()));
     std::fs::rename(dir.join(file), &to)?;
     Ok(to)
+}
+
+/// Retire an outdated result so that the job runs again (`run --rerun-outdated`): under the
+/// job's lock, `result.ron` (and, when the engine changed, the checkpoint and the records, so
+/// that the run restarts from scratch) are renamed `<name>.outdated-<UTC time>`, never
+/// deleted, and the log says why. Returns the reason, or None when the job is not done, not
+/// outdated, or held by a runner.
+pub fn retire_if_outdated(
+    dir: &Path,
+    engine_version: u32,
+    analysis_version: u32,
+) -> anyhow::Result<Option<String>> {
+    let Ok(lock) = OpenOptions::new().write(true).open(dir.join(LOCK_FILE)) else {
+        return Ok(None);
+    };
+    if lock.try_lock().is_err() || !dir.join(RESULT_FILE).exists() {
+        return Ok(None);
+    }
+    let Ok(result) = read_result(dir) else {
+        // a damaged result is --retry-failed's business
+        return Ok(None);
+    };
+    let Some(outdated) = result.provenance.outdated(engine_version, analysis_version) else {
+        return Ok(None);
+    };
+    let stamp = crate::provenance::now();
+    let mut files = vec![RESULT_FILE];
+    if outdated.engine_changed {
+        files.extend([CHECKPOINT_FILE, RECORDS_FILE]);
+    }
+    for file in files {
+        let from = dir.join(file);
+        if from.exists() {
+            std::fs::rename(&from, dir.join(format!("{file}.outdated-{stamp}")))
+                .with_context(|| format!("setting aside {}", from.display()))?;
+        }
+    }
+    log(
+        dir,
+        &format!(
+            "outdated: {}; rerun {}",
+            outdated.reason,
+            if outdated.engine_changed {
+                "from the start"
+            } else {
+                "of the analysis from the last checkpoint"
+            }
+        ),
+    )?;
+    Ok(Some(outdated.reason))
 }
 
 /// An exclusive claim on a job; released when dropped (or when the process dies).
