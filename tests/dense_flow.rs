@@ -40,7 +40,7 @@ fn finish(job: &PlannedJob, dir: &Path) -> store::JobResult {
     let claim = store::try_claim(dir, false).unwrap().unwrap();
     match execute::run_job(job, &claim, None, &mut |_| {}).unwrap() {
         JobEnd::Finished(r) => *r,
-        JobEnd::Stopped => panic!("not finished"),
+        other => panic!("not finished: {other:?}"),
     }
 }
 
@@ -62,7 +62,7 @@ fn recorded_balances_obey_the_exact_identities_and_are_one_when_steady() {
         .into_iter()
         .map(|r| match r {
             Record::Structure(r) => r,
-            Record::Lattice(_) => panic!("a structure record"),
+            other => panic!("a structure record, not {other:?}"),
         })
         .collect();
     let n = records[0].particles as f64;
@@ -130,7 +130,7 @@ fn run_until_steady_stops_at_the_same_snapshot_when_interrupted() {
             let claim = store::try_claim(&jd, false).unwrap().unwrap();
             match execute::run_job(job, &claim, Some(stop), &mut |_| {}).unwrap() {
                 JobEnd::Stopped => {}
-                JobEnd::Finished(_) => panic!("finished before snapshot {stop}"),
+                other => panic!("finished before snapshot {stop}: {other:?}"),
             }
         }
         finish(job, &jd)

@@ -87,7 +87,7 @@ fn pre_registry_files_still_read() {
         let claim = store::try_claim(jd, false).unwrap().unwrap();
         match execute::run_job(job, &claim, None, &mut |_| {}).unwrap() {
             JobEnd::Finished(r) => *r,
-            JobEnd::Stopped => panic!("not finished"),
+            other => panic!("not finished: {other:?}"),
         }
     };
     let resumed = dir.join("resumed").join(&job.id.0);

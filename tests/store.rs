@@ -318,3 +318,74 @@ fn outdated_results_are_flagged_and_rerun_on_request() {
     let out = granflow(&["status", f, "--results", r]);
     assert!(!String::from_utf8_lossy(&out.stdout).contains("OUTDATED"));
 }
+
+/// A claim whose lock file is deleted while its job runs is detected: a second runner may
+/// then claim the job (a new lock file), and the first stops at its next checkpoint without a
+/// result, so the job is finished once (one `done`), by one runner, with the result of an
+/// uninterrupted run. `status` names the holder of a running job.
+#[test]
+fn a_stolen_lock_stops_the_runner_that_lost_it() {
+    use std::process::Stdio;
+    let dir = scratch("stolen-lock");
+    let file = dir.join("s.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"lga\", fixed: (length: 220, width: 11, density: 1.0, dissipation: 0.5),\n run: (steps: 300000, snapshot_interval: 100, checkpoint_every: 5))",
+    )
+    .unwrap();
+    let sweep = load_sweep(&file, &[]).unwrap();
+    let reference = dir.join("reference");
+    let out = granflow(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        reference.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let results = dir.join("results");
+    let (f, r) = (file.to_str().unwrap(), results.to_str().unwrap());
+    let job_dir = sweep.results_dir(&results).job_dir(&sweep.plan[0].id);
+    let first = Command::new(BIN)
+        .args(["run", f, "--results", r])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // wait for its first checkpoints
+    let started = std::time::Instant::now();
+    while store::checkpoint_progress(&job_dir).is_none_or(|p| p.steps < 2000) {
+        assert!(started.elapsed().as_secs() < 60, "the job does not start");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let out = granflow(&["status", f, "--results", r]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains(&format!("pid={}", first.id())),
+        "status does not name the holder: {text}"
+    );
+    // the theft: the lock file deleted, a second runner claims the job
+    std::fs::remove_file(job_dir.join(store::LOCK_FILE)).unwrap();
+    let second = granflow(&["run", f, "--results", r]);
+    assert!(
+        second.status.success(),
+        "{}",
+        String::from_utf8_lossy(&second.stderr)
+    );
+    let first = first.wait_with_output().unwrap();
+    let first_out = String::from_utf8_lossy(&first.stdout);
+    assert!(
+        first_out.contains("lost "),
+        "the first runner did not notice: {first_out}"
+    );
+    let log = std::fs::read_to_string(job_dir.join(store::LOG_FILE)).unwrap();
+    assert_eq!(log.matches(" done").count(), 1, "{log}");
+    assert!(log.contains("claim lost"), "{log}");
+    let a = store::read_result(&sweep.results_dir(&reference).job_dir(&sweep.plan[0].id)).unwrap();
+    let b = store::read_result(&job_dir).unwrap();
+    assert_eq!(deterministic(a), deterministic(b));
+}

@@ -416,7 +416,7 @@ fn resumed_job_is_bitwise_identical() {
         let claim = queue::try_claim(&jd, false).unwrap().unwrap();
         match execute::run_job(job, &claim, None, &mut |_| {}).unwrap() {
             JobEnd::Finished(r) => queue::write_result(&jd, &r).unwrap(),
-            JobEnd::Stopped => panic!("not finished"),
+            other => panic!("not finished: {other:?}"),
         }
         jd
     };

@@ -41,6 +41,10 @@ pub struct RunArgs {
     /// checkpoint); the old files are kept as `<name>.outdated-<time>`
     #[arg(long)]
     pub rerun_outdated: bool,
+    /// run even where the results file system has no working file locks (Lustre `noflock`,
+    /// some FUSE mounts): safe only while a single runner works on the sweep at a time
+    #[arg(long)]
+    pub unsafe_no_locks: bool,
     /// only jobs whose parameters meet this condition: KEY=V, KEY!=V, KEY<V, KEY<=V, KEY>V,
     /// KEY>=V (repeatable: all must hold), e.g. --where width_over_diameter>=30
     #[arg(long = "where", value_name = "CONDITION")]
@@ -136,6 +140,18 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     }
     // the input is good: only now may anything be created
     crate::sweep::check_results_root(&args.results)?;
+    if args.unsafe_no_locks {
+        crate::sweep::store::allow_claims_without_locks();
+        say!(
+            "warning: --unsafe-no-locks: claims are not exclusive; run no other runner on this sweep"
+        );
+    } else {
+        match crate::sweep::store::check_locking(&args.results) {
+            Ok(Some(warning)) => say!("{warning}"),
+            Ok(None) => {}
+            Err(refusal) => return Err(BadInput(refusal).into()),
+        }
+    }
     let dirs = sweep.results_dir(&args.results);
     let opts = RunOptions {
         threads: args

@@ -67,6 +67,9 @@ fn status_json(
                 "label": label,
                 "label_probability": probability,
                 "error": error,
+                "holder": matches!(j.state, JobState::Running)
+                    .then(|| store::holder(&dir))
+                    .flatten(),
                 "outdated": j.result.as_ref().and_then(|r| {
                     let def = j.job.params.def();
                     r.provenance
@@ -160,9 +163,12 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
             }
             JobState::Running => {
                 let dir = dirs.job_dir(&j.job.id);
+                let by = store::holder(&dir).map_or(String::new(), |h| format!("  [{h}]"));
                 match store::checkpoint_progress(&dir).map(|p| p.on(run.clock())) {
-                    Some(c) => format!("running  {c:.0}/{target:.0} {unit} at the last checkpoint"),
-                    None => "running  (claimed by a live runner)".to_string(),
+                    Some(c) => {
+                        format!("running  {c:.0}/{target:.0} {unit} at the last checkpoint{by}")
+                    }
+                    None => format!("running  (claimed by a live runner){by}"),
                 }
             }
             JobState::Pending => "pending".to_string(),

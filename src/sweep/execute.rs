@@ -22,6 +22,9 @@ pub enum JobEnd {
     Finished(Box<JobResult>),
     /// stopped after the snapshot asked for (tests of resumption)
     Stopped,
+    /// the claim was lost (its lock file deleted or replaced): stopped without a result,
+    /// leaving the job to whoever holds it now
+    ClaimLost(String),
 }
 
 /// Progress of a running job, reported after each snapshot.
@@ -114,6 +117,9 @@ pub fn run_job(
         log.append(&record)?;
         records.push(record);
         if k % run.checkpoint_every == 0 || k == total {
+            if let Err(why) = claim.still_held() {
+                return Ok(JobEnd::ClaimLost(why));
+            }
             log.sync()?;
             store::write_checkpoint(
                 dir,

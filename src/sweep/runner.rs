@@ -65,6 +65,8 @@ pub struct RunSummary {
 enum Outcome {
     Finished(Box<JobResult>),
     Failed(String),
+    /// the job's lock file was deleted or replaced: no result, not failed
+    ClaimLost(String),
 }
 
 struct Message<'a> {
@@ -194,7 +196,26 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
             for msg in rx {
                 let job = msg.job;
                 let dir = &msg.claim.dir;
+                // a claim lost while the job ran (or while its result waited here) writes
+                // nothing: another runner may hold the job now
+                let lost = match &msg.outcome {
+                    Outcome::ClaimLost(why) => Some(why.clone()),
+                    _ => msg.claim.still_held().err(),
+                };
                 let line = match &msg.outcome {
+                    _ if lost.is_some() => {
+                        let why = lost.unwrap_or_default();
+                        let _ = store::log(
+                            dir,
+                            &format!("claim lost: {why}; stopped without a result"),
+                        );
+                        busy.fetch_add(1, Ordering::Relaxed);
+                        format!(
+                            "lost    {} [{}]: {why}; stopped without a result",
+                            job.id, job.index
+                        )
+                    }
+                    Outcome::ClaimLost(_) => unreachable!("handled above"),
                     Outcome::Finished(result) => match store::write_result(dir, result) {
                         Ok(()) => {
                             let _ = store::log(dir, "done");
@@ -328,6 +349,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         let outcome = match outcome {
                             Ok(Ok(JobEnd::Finished(result))) => Outcome::Finished(result),
                             Ok(Ok(JobEnd::Stopped)) => Outcome::Failed("stopped early".into()),
+                            Ok(Ok(JobEnd::ClaimLost(why))) => Outcome::ClaimLost(why),
                             Ok(Err(e)) => Outcome::Failed(format!("{e:#}")),
                             Err(panic) => Outcome::Failed(format!(
                                 "panic: {}",

@@ -20,13 +20,15 @@ use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 mod checkpoint;
+mod claim;
 mod records;
 mod result;
 
 pub use checkpoint::{JobCheckpoint, checkpoint_progress, read_checkpoint, write_checkpoint};
+pub use claim::{Claim, NotClaimed, allow_claims_without_locks, check_locking, holder, try_claim};
 pub use records::{RecordLog, load_records};
 pub use result::{JobResult, read_result, write_result};
-use std::fs::{File, OpenOptions};
+use std::fs::OpenOptions;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -218,81 +220,6 @@ pub fn retire_if_outdated(
         ),
     )?;
     Ok(Some(outdated.reason))
-}
-
-/// An exclusive claim on a job; released when dropped (or when the process dies).
-#[derive(Debug)]
-pub struct Claim {
-    pub dir: PathBuf,
-    _lock: File,
-}
-
-/// Why a job was not claimed.
-#[derive(Clone, Debug, PartialEq)]
-pub enum NotClaimed {
-    /// another runner holds it
-    Busy,
-    /// already done
-    Done,
-    /// failed earlier (and retrying was not asked for)
-    Failed(String),
-    /// a file is damaged or misplaced (and retrying was not asked for)
-    Damaged(String),
-}
-
-/// Try to claim the job in `dir` (non-blocking). The state is re-read under the lock, so a job
-/// finished by another runner in the meantime is never run again. With `retry_failed` a failed
-/// job's `failed.txt` is removed and it resumes from its last checkpoint.
-pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim, NotClaimed>> {
-    std::fs::create_dir_all(dir)?;
-    let lock = OpenOptions::new()
-        .create(true)
-        .truncate(false)
-        .write(true)
-        .open(dir.join(LOCK_FILE))?;
-    // a state probe ([`job_state`]) holds the lock for an instant: try a few times before
-    // concluding that another runner holds it
-    let mut attempt = 0;
-    loop {
-        match lock.try_lock() {
-            Ok(()) => break,
-            Err(std::fs::TryLockError::WouldBlock) if attempt < 5 => {
-                attempt += 1;
-                std::thread::sleep(std::time::Duration::from_millis(10));
-            }
-            Err(std::fs::TryLockError::WouldBlock) => return Ok(Err(NotClaimed::Busy)),
-            Err(std::fs::TryLockError::Error(e)) => return Err(e),
-        }
-    }
-    // with --retry-failed a damaged result is found here too (and set aside); a damaged
-    // checkpoint is found anyway. A job with a damaged checkpoint restarts from scratch.
-    let mut state = state_unlocked(dir, retry_failed);
-    while let JobState::Damaged { file, reason } = &state {
-        if !retry_failed {
-            return Ok(Err(NotClaimed::Damaged(reason.clone())));
-        }
-        let to = set_aside(dir, file)?;
-        log(
-            dir,
-            &format!("set aside {} as {}: {reason}", file, to.display()),
-        )?;
-        state = state_unlocked(dir, true);
-    }
-    match state {
-        JobState::Done => Ok(Err(NotClaimed::Done)),
-        JobState::Failed(e) if !retry_failed => Ok(Err(NotClaimed::Failed(e))),
-        JobState::Failed(_) => {
-            std::fs::remove_file(dir.join(FAILED_FILE))?;
-            Ok(Ok(Claim {
-                dir: dir.to_path_buf(),
-                _lock: lock,
-            }))
-        }
-        _ => Ok(Ok(Claim {
-            dir: dir.to_path_buf(),
-            _lock: lock,
-        })),
-    }
 }
 
 /// Append one line to the job's log, `<UTC time> <event>`, and flush it to disk.
