@@ -389,3 +389,76 @@ fn a_stolen_lock_stops_the_runner_that_lost_it() {
     let b = store::read_result(&job_dir).unwrap();
     assert_eq!(deterministic(a), deterministic(b));
 }
+
+/// A full disk (here: the file-size limit of `ulimit -f`, EFBIG, with SIGXFSZ ignored, as a
+/// full disk's ENOSPC would) stops the runner from starting new jobs, names the file, leaves
+/// the job resumable (partial, not failed) with no temp files behind, and exits with code 75;
+/// the same command without the limit then finishes every job with the results of an
+/// uninterrupted run.
+#[test]
+fn a_full_disk_stops_the_run_and_leaves_jobs_resumable() {
+    let dir = scratch("full-disk");
+    let file = dir.join("f.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"lga\", fixed: (length: 220, width: 11, dissipation: 0.5),\n axes: (density: [1.0, 1.2]),\n run: (steps: 30000, snapshot_interval: 10, checkpoint_every: 20))",
+    )
+    .unwrap();
+    let sweep = load_sweep(&file, &[]).unwrap();
+    let (f, reference) = (file.to_str().unwrap(), dir.join("reference"));
+    let out = granflow(&["run", f, "--results", reference.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let results = dir.join("results");
+    let r = results.to_str().unwrap();
+    let limited = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "trap '' XFSZ; ulimit -f 200; exec {BIN} run {f} --results {r} --threads 1"
+        ))
+        .output()
+        .unwrap();
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&limited.stdout),
+        String::from_utf8_lossy(&limited.stderr)
+    );
+    assert_eq!(limited.status.code(), Some(75), "{said}");
+    assert!(
+        said.contains("records.bin"),
+        "the message names no file: {said}"
+    );
+    let dirs = sweep.results_dir(&results);
+    let states: Vec<String> = sweep
+        .plan
+        .iter()
+        .map(|j| store::job_state(&dirs.job_dir(&j.id)).name().to_string())
+        .collect();
+    // the job that hit the limit is partial; the other never started
+    let mut sorted = states.clone();
+    sorted.sort();
+    assert_eq!(sorted, ["partial", "pending"], "{said}");
+    for job in &sweep.plan {
+        let d = dirs.job_dir(&job.id);
+        assert!(
+            files_named(&d, ".").iter().all(|n| !n.contains(".tmp-")),
+            "temp files left"
+        );
+        assert!(!d.join(store::FAILED_FILE).exists());
+    }
+    let out = granflow(&["run", f, "--results", r]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for job in &sweep.plan {
+        let a = store::read_result(&sweep.results_dir(&reference).job_dir(&job.id)).unwrap();
+        let b = store::read_result(&dirs.job_dir(&job.id)).unwrap();
+        assert_eq!(deterministic(a), deterministic(b), "job {}", job.id);
+    }
+}

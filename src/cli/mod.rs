@@ -82,7 +82,12 @@ pub fn main() -> ExitCode {
             for cause in err.chain().skip(1) {
                 eprintln!("  caused by: {cause}");
             }
-            if err.downcast_ref::<crate::sweep::SpecError>().is_some()
+            if err
+                .downcast_ref::<crate::sweep::fs_error::ResourceStop>()
+                .is_some()
+            {
+                ExitCode::from(crate::sweep::fs_error::EXIT_RESOURCE)
+            } else if err.downcast_ref::<crate::sweep::SpecError>().is_some()
                 || err.downcast_ref::<crate::sweep::BadInput>().is_some()
             {
                 ExitCode::from(EXIT_BAD_INPUT)

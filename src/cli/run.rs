@@ -166,6 +166,15 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         write_resolved: !by_ids,
     };
     let summary = run_sweep(&sweep, &dirs, &opts)?;
+    if let Some(err) = &summary.halted {
+        return Err(crate::sweep::fs_error::ResourceStop(format!(
+            "the run stopped on a resource error: {err}. No job was marked failed: free space \
+             (or fix the device) and run the same command again; the stopped jobs resume from \
+             their last checkpoint (exit code {})",
+            crate::sweep::fs_error::EXIT_RESOURCE
+        ))
+        .into());
+    }
     let jobs = tables::collect(&sweep, &dirs);
     let failed: Vec<_> = jobs
         .iter()

@@ -14,6 +14,7 @@
 
 pub mod curves;
 pub mod execute;
+pub mod fs_error;
 pub mod grid;
 pub mod job;
 pub mod phase;
@@ -256,7 +257,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     })();
     if let Err(e) = written.and_then(|()| std::fs::rename(&tmp, path)) {
         let _ = std::fs::remove_file(&tmp);
-        return Err(e);
+        return Err(fs_error::PathError::new(path, e).into());
     }
     if let Ok(d) = std::fs::File::open(dir) {
         let _ = d.sync_all();

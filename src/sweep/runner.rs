@@ -60,6 +60,9 @@ pub struct RunSummary {
     pub busy: usize,
     /// done but outdated, set aside and run again (`rerun_outdated`)
     pub outdated: usize,
+    /// the first resource error (full disk, quota, I/O error) that stopped the run from
+    /// starting new jobs; the jobs it hit stay resumable
+    pub halted: Option<String>,
 }
 
 enum Outcome {
@@ -67,6 +70,8 @@ enum Outcome {
     Failed(String),
     /// the job's lock file was deleted or replaced: no result, not failed
     ClaimLost(String),
+    /// a resource error (full disk, ...): the job stays resumable, the run stops starting jobs
+    Halted(String),
 }
 
 struct Message<'a> {
@@ -187,6 +192,19 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     let next = AtomicUsize::new(0);
     let busy = AtomicUsize::new(0);
     let counts = Mutex::new((0usize, 0usize));
+    let halted: Mutex<Option<String>> = Mutex::new(None);
+    // a resource error: the job stays resumable (not failed), and the run stops starting jobs
+    let halt = |job: &PlannedJob, dir: &std::path::Path, err: &str| {
+        let _ = store::log(dir, &format!("stopped by a resource error: {err}"));
+        halted
+            .lock()
+            .expect("halted")
+            .get_or_insert_with(|| err.to_string());
+        format!(
+            "STOPPED {} [{}]: {err}; the job stays resumable from its last checkpoint, no new job starts",
+            job.id, job.index
+        )
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.max(1))
         .build()?;
@@ -216,6 +234,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         )
                     }
                     Outcome::ClaimLost(_) => unreachable!("handled above"),
+                    Outcome::Halted(err) => halt(job, dir, err),
                     Outcome::Finished(result) => match store::write_result(dir, result) {
                         Ok(()) => {
                             let _ = store::log(dir, "done");
@@ -231,6 +250,9 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                                 result.wall_seconds,
                                 result.events_per_second
                             )
+                        }
+                        Err(e) if super::fs_error::is_resource_error(&e) => {
+                            halt(job, dir, &format!("writing the result: {e:#}"))
                         }
                         Err(e) => {
                             let _ = store::mark_failed(dir, &format!("writing the result: {e:#}"));
@@ -259,6 +281,10 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                 s.spawn(|_| {
                     let tx = tx;
                     loop {
+                        // after a resource error no new job starts
+                        if halted.lock().expect("halted").is_some() {
+                            break;
+                        }
                         let i = next.fetch_add(1, Ordering::Relaxed);
                         let Some(job) = todo.get(i) else { break };
                         let dir = dirs.job_dir(&job.id);
@@ -350,6 +376,15 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                             Ok(Ok(JobEnd::Finished(result))) => Outcome::Finished(result),
                             Ok(Ok(JobEnd::Stopped)) => Outcome::Failed("stopped early".into()),
                             Ok(Ok(JobEnd::ClaimLost(why))) => Outcome::ClaimLost(why),
+                            Ok(Err(e)) if super::fs_error::is_resource_error(&e) => {
+                                // stop the other workers from starting jobs right away
+                                let err = format!("{e:#}");
+                                halted
+                                    .lock()
+                                    .expect("halted")
+                                    .get_or_insert_with(|| err.clone());
+                                Outcome::Halted(err)
+                            }
                             Ok(Err(e)) => Outcome::Failed(format!("{e:#}")),
                             Err(panic) => Outcome::Failed(format!(
                                 "panic: {}",
@@ -377,7 +412,8 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     summary.finished = finished;
     summary.failed = failed;
     summary.busy = busy.load(Ordering::Relaxed);
-    if opts.write_tables {
+    summary.halted = halted.into_inner().expect("halted");
+    if opts.write_tables && summary.halted.is_none() {
         let written = tables::gather(sweep, dirs)?;
         say(format!(
             "tables: {} jobs ({} done) in {}",

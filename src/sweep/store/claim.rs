@@ -148,6 +148,7 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
         JobState::Failed(_) => std::fs::remove_file(dir.join(FAILED_FILE))?,
         _ => {}
     }
+    remove_stale_temps(dir);
     // the holder, for `status` (the lock file's content is information only)
     lock.set_len(0)?;
     writeln!(
@@ -162,6 +163,22 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
         _lock: lock,
         identity,
     }))
+}
+
+/// Remove the temp files of atomic writes (`.<name>.tmp-<host>-<pid>-<n>`) that a killed or
+/// failed writer left in a job directory. Called under the job's lock: no live writer of this
+/// job can own them.
+fn remove_stale_temps(dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if name.starts_with('.') && name.contains(".tmp-") {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
 }
 
 /// Check that exclusive locks work in `root` (where the job directories go): a probe file is

@@ -7,9 +7,10 @@
 
 use super::{JobCheckpoint, RECORDS_FILE};
 use crate::analysis::Record;
+use crate::sweep::fs_error::PathError;
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 const FRAME_HEADER: usize = 8;
 
@@ -77,6 +78,7 @@ pub fn load_records(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<Vec<Record
 
 /// The record log of a running job, open for appending.
 pub struct RecordLog {
+    path: PathBuf,
     file: BufWriter<File>,
     records: u64,
     bytes: u64,
@@ -97,10 +99,11 @@ impl RecordLog {
             Some(cp) if cp.legacy_records.is_none() => (cp.records, cp.records_bytes),
             _ => (0, 0),
         };
-        file.set_len(bytes)?;
+        file.set_len(bytes).map_err(|e| PathError::new(&path, e))?;
         let mut file = BufWriter::new(file);
         file.seek(SeekFrom::Start(bytes))?;
         let mut log = RecordLog {
+            path,
             file,
             records,
             bytes,
@@ -116,7 +119,9 @@ impl RecordLog {
     /// Append one record (buffered; [`RecordLog::sync`] makes it durable).
     pub fn append(&mut self, record: &Record) -> anyhow::Result<()> {
         let bytes = frame(record)?;
-        self.file.write_all(&bytes)?;
+        self.file
+            .write_all(&bytes)
+            .map_err(|e| PathError::new(&self.path, e))?;
         self.records += 1;
         self.bytes += bytes.len() as u64;
         Ok(())
@@ -124,8 +129,12 @@ impl RecordLog {
 
     /// Write out and fsync what was appended (before a checkpoint names it).
     pub fn sync(&mut self) -> anyhow::Result<()> {
-        self.file.flush()?;
-        self.file.get_ref().sync_data()?;
+        let path = &self.path;
+        self.file.flush().map_err(|e| PathError::new(path, e))?;
+        self.file
+            .get_ref()
+            .sync_data()
+            .map_err(|e| PathError::new(path, e))?;
         Ok(())
     }
 

@@ -1,0 +1,79 @@
+//! File-system errors of the job store with the path they happened on, and which of them are
+//! *resource* errors (full disk, quota, file-size limit, a failing device, a read-only file
+//! system): those stop a runner from starting new jobs and leave the job resumable instead of
+//! failing it, since they say nothing about the job.
+
+use std::path::{Path, PathBuf};
+
+/// An I/O error on a path (its message holds the error's, so it is not a separate cause).
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {error}", path.display())]
+pub struct PathError {
+    pub path: PathBuf,
+    pub error: std::io::Error,
+}
+
+impl PathError {
+    pub fn new(path: &Path, error: std::io::Error) -> Self {
+        PathError {
+            path: path.to_path_buf(),
+            error,
+        }
+    }
+}
+
+impl From<PathError> for std::io::Error {
+    fn from(e: PathError) -> Self {
+        std::io::Error::new(e.error.kind(), e)
+    }
+}
+
+/// A run stopped by a resource error (exit code [`EXIT_RESOURCE`]): what happened, where.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct ResourceStop(pub String);
+
+/// Exit code of a run stopped by a resource error (EX_TEMPFAIL of sysexits.h: try again
+/// once the disk has room).
+pub const EXIT_RESOURCE: u8 = 75;
+
+/// ENOSPC, EDQUOT, EFBIG, EIO, EROFS (Linux numbers).
+const RESOURCE_ERRNOS: &[i32] = &[28, 122, 27, 5, 30];
+
+fn is_resource_io(e: &std::io::Error) -> bool {
+    if e.raw_os_error()
+        .is_some_and(|n| RESOURCE_ERRNOS.contains(&n))
+    {
+        return true;
+    }
+    e.get_ref()
+        .and_then(|inner| inner.downcast_ref::<PathError>())
+        .is_some_and(|p| is_resource_io(&p.error))
+}
+
+/// Whether an error (anywhere in its chain) is a resource error: the disk, not the job.
+pub fn is_resource_error(err: &anyhow::Error) -> bool {
+    err.chain().any(|e| {
+        e.downcast_ref::<std::io::Error>()
+            .is_some_and(is_resource_io)
+            || e.downcast_ref::<PathError>()
+                .is_some_and(|p| is_resource_io(&p.error))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resource_errors_are_recognised_through_wrappers() {
+        let full = std::io::Error::from_raw_os_error(28);
+        let wrapped: std::io::Error = PathError::new(Path::new("/r/x"), full).into();
+        assert!(wrapped.to_string().contains("/r/x"));
+        let err = anyhow::Error::new(wrapped).context("writing the checkpoint");
+        assert!(is_resource_error(&err));
+        let other = anyhow::Error::new(std::io::Error::from_raw_os_error(2)).context("x");
+        assert!(!is_resource_error(&other));
+        assert!(!is_resource_error(&anyhow::anyhow!("the engine stalled")));
+    }
+}
