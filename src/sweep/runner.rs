@@ -125,7 +125,10 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                     None => summary.already_done += 1,
                 }
             }
-            JobState::Done => summary.already_done += 1,
+            JobState::Done => {
+                store::complete_done_log(&dir)?;
+                summary.already_done += 1
+            }
             JobState::Failed(_) | JobState::Damaged { .. } if !opts.retry_failed => {
                 summary.skipped_failed += 1
             }

@@ -5,7 +5,9 @@
 //! runner checks it before every checkpoint and before the result. At start a runner checks
 //! that locking works on the results file system at all ([`check_locking`]).
 
-use super::{FAILED_FILE, JobState, LOCK_FILE, log, set_aside, state_unlocked};
+use super::{
+    CHECKPOINT_FILE, FAILED_FILE, JobState, LOCK_FILE, RECORDS_FILE, log, set_aside, state_unlocked,
+};
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::os::unix::fs::MetadataExt;
@@ -128,25 +130,39 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
     let Some((mut lock, identity)) = lock_job(dir)? else {
         return Ok(Err(NotClaimed::Busy));
     };
-    // with --retry-failed a damaged result is found here too (and set aside); a damaged
-    // checkpoint is found anyway. A job with a damaged checkpoint restarts from scratch.
-    let mut state = state_unlocked(dir, retry_failed);
-    while let JobState::Damaged { file, reason } = &state {
-        if !retry_failed {
-            return Ok(Err(NotClaimed::Damaged(reason.clone())));
+    // The state is read with its files checked (a result's checksum and owner, the records a
+    // checkpoint covers): a damaged file is refused here, or with --retry-failed set aside and
+    // the state read again. A checkpoint and its record log are one resumable state: when
+    // either is damaged both are set aside and the job restarts from scratch.
+    let mut state = state_unlocked(dir, true);
+    loop {
+        match &state {
+            JobState::Damaged { reason, .. } if !retry_failed => {
+                return Ok(Err(NotClaimed::Damaged(reason.clone())));
+            }
+            JobState::Damaged { file, reason } => {
+                let files: &[&str] = match *file {
+                    CHECKPOINT_FILE | RECORDS_FILE => &[CHECKPOINT_FILE, RECORDS_FILE],
+                    other => std::slice::from_ref(file),
+                };
+                for f in files {
+                    if dir.join(f).exists() {
+                        let to = set_aside(dir, f)?;
+                        let why = if f == file {
+                            reason.clone()
+                        } else {
+                            format!("its partner {file} is damaged")
+                        };
+                        log(dir, &format!("set aside {f} as {}: {why}", to.display()))?;
+                    }
+                }
+            }
+            JobState::Done => return Ok(Err(NotClaimed::Done)),
+            JobState::Failed(e) if !retry_failed => return Ok(Err(NotClaimed::Failed(e.clone()))),
+            JobState::Failed(_) => std::fs::remove_file(dir.join(FAILED_FILE))?,
+            _ => break,
         }
-        let to = set_aside(dir, file)?;
-        log(
-            dir,
-            &format!("set aside {} as {}: {reason}", file, to.display()),
-        )?;
         state = state_unlocked(dir, true);
-    }
-    match state {
-        JobState::Done => return Ok(Err(NotClaimed::Done)),
-        JobState::Failed(e) if !retry_failed => return Ok(Err(NotClaimed::Failed(e))),
-        JobState::Failed(_) => std::fs::remove_file(dir.join(FAILED_FILE))?,
-        _ => {}
     }
     remove_stale_temps(dir);
     // the holder, for `status` (the lock file's content is information only)

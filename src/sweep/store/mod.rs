@@ -143,7 +143,14 @@ fn state_unlocked(dir: &Path, verify: bool) -> JobState {
         return JobState::Failed(err.trim().to_string());
     }
     match read_checkpoint(dir) {
-        Ok(Some(cp)) => JobState::Partial(cp.progress),
+        // with `verify`, the records the checkpoint covers are read too: a resume needs them
+        Ok(Some(cp)) => match verify.then(|| load_records(dir, &cp)) {
+            Some(Err(e)) => JobState::Damaged {
+                file: RECORDS_FILE,
+                reason: format!("{e:#}"),
+            },
+            _ => JobState::Partial(cp.progress),
+        },
         Ok(None) => JobState::Pending,
         Err(e) => JobState::Damaged {
             file: CHECKPOINT_FILE,
@@ -241,6 +248,23 @@ pub fn log_events(text: &str) -> Vec<&str> {
             _ => l,
         })
         .collect()
+}
+
+/// A result is written before its log's `done` line; a runner stopped between the two leaves
+/// a done job whose log does not say so. Add the line for such a job (the result is the
+/// authority), so that the log and the result agree again.
+pub fn complete_done_log(dir: &Path) -> std::io::Result<()> {
+    if !dir.join(RESULT_FILE).exists() {
+        return Ok(());
+    }
+    let text = std::fs::read_to_string(dir.join(LOG_FILE)).unwrap_or_default();
+    match log_events(&text).last() {
+        Some(last) if last.starts_with("done") => Ok(()),
+        _ => log(
+            dir,
+            "done (logged late: the runner stopped between writing the result and this line)",
+        ),
+    }
 }
 
 /// When the job first started (the time of its log's first `start`), if the log says.
