@@ -6,6 +6,7 @@ use super::params::ParamFlags;
 use crate::analysis::{self, Analyser, Analysis, JobAnalysis};
 use crate::engine::{Clock, Content, EngineDef, ParamValue, Snapshot, StopAt, Values, registry};
 use crate::sweep::BadInput;
+use crate::sweep::ranges::RangeCall;
 use crate::sweep::spec::{ParamValues, did_you_mean};
 use clap::Args;
 use std::path::PathBuf;
@@ -108,6 +109,12 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
         let (k, v) = s
             .split_once('=')
             .ok_or_else(|| bad(format!("--set {s}: expected key=value")))?;
+        if v.contains(',') || RangeCall::parse(v).is_some() {
+            return Err(bad(format!(
+                "--set {s}: sim runs one simulation, with one value per parameter; sweep \
+                 lists and ranges with `granflow run` (a sweep file, or `run --set`)"
+            )));
+        }
         given.push((
             k.trim().to_string(),
             v.trim().to_string(),
