@@ -1,6 +1,7 @@
 //! The researcher's side of the command line (issue 14): selection by parameter (`--where`)
 //! for run, plan, status and gather; `status --json`; a phase diagram refuses an axis that
-//! does not vary.
+//! does not vary; ranges (`linspace`, `logspace`, `range`) in sweep files and `--set`;
+//! examples in every subcommand's help; shell completions.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -325,4 +326,79 @@ fn bad_ranges_are_refused_naming_the_key() {
     let out = granflow(&["sim", "--set", "restitution=linspace(0.5,0.9,5)"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("granflow run"));
+}
+
+/// Every subcommand's --help (`granflow slurm submit` and `slurm status` too) ends with
+/// examples that run that very subcommand (issue 14, item 7). The list of subcommands comes
+/// from the command definitions, so a new subcommand without examples fails here.
+#[test]
+fn every_subcommand_help_shows_examples() {
+    use clap::CommandFactory;
+    fn paths(command: &clap::Command, prefix: &[String], out: &mut Vec<Vec<String>>) {
+        for sub in command.get_subcommands() {
+            let mut path = prefix.to_vec();
+            path.push(sub.get_name().to_string());
+            out.push(path.clone());
+            paths(sub, &path, out);
+        }
+    }
+    let mut all = Vec::new();
+    paths(&granflow::cli::Cli::command(), &[], &mut all);
+    assert!(all.len() >= 13, "{all:?}");
+    for path in &all {
+        let mut args: Vec<&str> = path.iter().map(String::as_str).collect();
+        args.push("--help");
+        let out = granflow(&args);
+        assert!(out.status.success(), "{args:?}");
+        let help = String::from_utf8_lossy(&out.stdout);
+        let (_, examples) = help
+            .split_once("\nExamples:\n")
+            .unwrap_or_else(|| panic!("`granflow {}` has no examples:\n{help}", path.join(" ")));
+        let invocation = format!("granflow {}", path.join(" "));
+        assert!(
+            examples
+                .lines()
+                .any(|l| l.trim_start().starts_with(&invocation)),
+            "the examples of `{invocation}` do not run it:\n{examples}"
+        );
+    }
+}
+
+/// `granflow completions SHELL` prints a completion script that knows the subcommands.
+#[test]
+fn completions_print_a_script_for_the_shell() {
+    let out = granflow(&["completions", "bash"]);
+    assert!(out.status.success());
+    let script = String::from_utf8_lossy(&out.stdout);
+    assert!(script.contains("_granflow()") && script.contains("complete -F _granflow"));
+    for sub in [
+        "sim",
+        "engines",
+        "bench",
+        "run",
+        "plan",
+        "status",
+        "gather",
+        "phase-diagram",
+        "plot",
+        "slurm",
+        "submit",
+        "completions",
+    ] {
+        assert!(script.contains(sub), "bash completion lacks `{sub}`");
+    }
+    assert!(script.contains("--where") && script.contains("--xyz"));
+    for (shell, marker) in [
+        ("zsh", "#compdef granflow"),
+        ("fish", "complete -c granflow"),
+    ] {
+        let out = granflow(&["completions", shell]);
+        assert!(out.status.success());
+        let script = String::from_utf8_lossy(&out.stdout);
+        assert!(script.contains(marker), "{shell}: {script:.200}");
+        assert!(script.contains("phase-diagram"), "{shell}");
+    }
+    let out = granflow(&["completions", "tcsh"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bash"));
 }

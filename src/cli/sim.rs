@@ -13,6 +13,16 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  # an EDMD channel (L/W = 2, W/d = H/d = 10, phi = 0.15), analysed at the end
+  granflow sim --length-over-width 2 --width-over-diameter 10 --height-over-diameter 10 \\
+      --volume-fraction 0.15 --restitution 0.7 --collisions-per-particle 2000 --analyse
+  # snapshots for viewers every 100 collisions per particle: XYZ (ASE, OVITO), VTK (ParaView)
+  granflow sim --length-over-width 2 --width-over-diameter 10 --height-over-diameter 10 \\
+      --volume-fraction 0.15 --collisions-per-particle 1000 --report-every 100 \\
+      --xyz frames --vtk fields
+  # another engine, with its example values and one set
+  granflow sim --engine dsmc --set knudsen_number=0.5 --time 20")]
 pub struct SimArgs {
     /// the engine (see `granflow engines`)
     #[arg(long, default_value = "edmd")]
