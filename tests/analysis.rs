@@ -1,7 +1,7 @@
 //! Analysis tests with known answers: spectra against a direct DFT, the shot-noise level of
 //! random arrangements, the steady-state detector, profiles, synthetic structures built from
 //! particle positions (plug, S-waves with 1-3 humps, slug, wavy slug, S-wave + slug, 3D,
-//! homogeneous at several N and grids), and the XYZ / VTK writers.
+//! homogeneous at several N and grids). The XYZ / VTK writers are tested in tests/viewer.rs.
 
 use granflow::analysis::classify::{
     assess, family_dims, family_modes, family_powers, noise_per_mode,
@@ -10,7 +10,7 @@ use granflow::analysis::fields::Grid;
 use granflow::analysis::spectrum::{fold, power_2d};
 use granflow::analysis::{
     AnalysisSettings, JobAnalysis, SnapshotRecord, analyse_job, plane_fields, record_snapshot,
-    steady, write_vtk_density, write_xyz,
+    steady,
 };
 use granflow::engine::{BoxGeometry, Content, Counters, Particles, Progress, Snapshot};
 use rand::{RngExt, SeedableRng};
@@ -851,82 +851,6 @@ fn cellwise_fields_of_known_cells() {
     assert_eq!(f.temperature[c1], 0.0);
     let xy = f.plane_phi(0);
     assert!((xy[0] - 0.5 * f.phi[c0]).abs() < 1e-15);
-}
-
-// ---------- snapshot files ----------
-
-#[test]
-fn xyz_and_vtk_files_parse_back() {
-    let g = channel(12.0, 10.0, 8.0);
-    let mut rng = Pcg64::seed_from_u64(4);
-    let pos = sample(&g, 200, &|_, _, _| 1.0, &mut rng);
-    let mut snap = snapshot(g, pos, 5.0);
-    for p in 0..snap.particles().unwrap().len() {
-        snap.particles_mut().unwrap().velocities[p] =
-            [rng.random::<f64>(), -rng.random::<f64>(), 0.5];
-        snap.particles_mut().unwrap().angular_velocities[p] = [0.1, rng.random::<f64>(), -2.0];
-    }
-    let dir = std::env::temp_dir().join(format!("granflow-analysis-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let xyz = dir.join("s.xyz");
-    write_xyz(&xyz, &snap).unwrap();
-    let text = std::fs::read_to_string(&xyz).unwrap();
-    let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(
-        lines[0].trim().parse::<usize>().unwrap(),
-        snap.particles().unwrap().len()
-    );
-    assert!(
-        lines[1].contains("Lattice=\"12 0 0 0 10 0 0 0 8\""),
-        "{}",
-        lines[1]
-    );
-    assert!(lines[1].contains("Properties=pos:R:3:velo:R:3:omega:R:3:radius:R:1"));
-    assert_eq!(lines.len(), snap.particles().unwrap().len() + 2);
-    for (p, line) in lines[2..].iter().enumerate() {
-        let v: Vec<f64> = line
-            .split_whitespace()
-            .map(|t| t.parse().unwrap())
-            .collect();
-        assert_eq!(v.len(), 10);
-        let s = snap.particles().unwrap();
-        assert_eq!(&v[0..3], &s.positions[p]);
-        assert_eq!(&v[3..6], &s.velocities[p]);
-        assert_eq!(&v[6..9], &s.angular_velocities[p]);
-        assert_eq!(v[9], 0.5);
-    }
-    let settings = AnalysisSettings {
-        grid: Some([3, 4, 2]),
-        ..AnalysisSettings::default()
-    };
-    let vtk = dir.join("f.vtk");
-    write_vtk_density(&vtk, &snap, &settings).unwrap();
-    let text = std::fs::read_to_string(&vtk).unwrap();
-    let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines[0], "# vtk DataFile Version 3.0");
-    assert_eq!(lines[2], "ASCII");
-    assert_eq!(lines[3], "DATASET STRUCTURED_POINTS");
-    assert_eq!(lines[4], "DIMENSIONS 3 4 2");
-    assert_eq!(lines[7], "POINT_DATA 24");
-    assert_eq!(lines[8], "SCALARS phi double 1");
-    let phi: Vec<f64> = lines[10..34].iter().map(|t| t.parse().unwrap()).collect();
-    // the volume fraction integrates back to N spheres over the gridded region
-    let grid = Grid::new(&g, snap.particles().unwrap().len(), &settings);
-    let cell = grid.volume() / 24.0;
-    let spheres: f64 = phi.iter().map(|v| v * cell / (PI / 6.0)).sum();
-    assert!(
-        (spheres - snap.particles().unwrap().len() as f64).abs() < 1e-9,
-        "{spheres}"
-    );
-    // x varies fastest: the first entries are the cells (i, 0, 0)
-    let counts =
-        granflow::analysis::fields::cell_counts(&snap.particles().unwrap().positions, &grid);
-    for i in 0..3 {
-        let expect = counts[grid.linear([i, 0, 0])] as f64 * (PI / 6.0) / cell;
-        assert!((phi[i] - expect).abs() < 1e-12);
-    }
-    assert!(text.contains("VECTORS velocity double"));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 // ---------- smooth fields (no noise) ----------

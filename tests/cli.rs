@@ -1,6 +1,7 @@
 //! The researcher's side of the command line (issue 14): selection by parameter (`--where`)
 //! for run, plan, status and gather; `status --json`; a phase diagram refuses an axis that
-//! does not vary.
+//! does not vary; ranges (`linspace`, `logspace`, `range`) in sweep files and `--set`;
+//! examples in every subcommand's help; shell completions.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -169,4 +170,235 @@ fn bench_json_keeps_its_keys() {
     let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
     assert!(rows[0]["site_updates_per_s"].as_f64().unwrap() > 0.0);
     assert!(rows[0]["phi"].as_f64().is_some());
+}
+
+/// Ranges (issue 14, item 4): an axis written as `linspace`/`logspace`/`range`, in the file or
+/// with `--set`, gives the same jobs (same ids, same order) as its values written as a list;
+/// the resolved sweep keeps the values as a list.
+#[test]
+fn ranges_give_the_same_jobs_as_the_values_written_out() {
+    use granflow::sweep::{load_sweep, spec};
+    let dir = scratch("ranges");
+    let sweep = |name: &str, engine_and_fixed: &str, run: &str, axes: &str| {
+        let file = dir.join(format!("{name}.ron"));
+        std::fs::write(
+            &file,
+            format!(
+                "({engine_and_fixed},\n axes: ({axes}),\n run: ({run}, snapshot_interval: 20))"
+            ),
+        )
+        .unwrap();
+        file
+    };
+    let edmd = "engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15)";
+    let edmd_n = "engine: \"edmd\", fixed: (length_over_width: 2.0, width_over_diameter: 4.0, height_over_diameter: 4.0)";
+    let dsmc = "engine: \"dsmc\", fixed: (forcing: 0.5)";
+    let ids = |file: &Path, overrides: &[&str]| -> Vec<String> {
+        let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        let sweep = load_sweep(file, &overrides).unwrap_or_else(|e| panic!("{e}"));
+        sweep.plan.iter().map(|j| j.id.to_string()).collect()
+    };
+    let cpp = "collisions_per_particle: 40";
+    let pairs = [
+        (
+            edmd,
+            cpp,
+            "restitution: linspace(0.5, 0.9, 5), length_over_width: range(1, 2, 0.5)",
+            "restitution: [0.5, 0.6, 0.7, 0.8, 0.9], length_over_width: [1.0, 1.5, 2.0]",
+        ),
+        (
+            edmd_n,
+            cpp,
+            "roughness: range(-0.2, 0.2, 0.1), particles: range(10, 16, 3)",
+            "roughness: [-0.2, -0.1, 0.0, 0.1, 0.2], particles: [10, 13, 16]",
+        ),
+        (
+            dsmc,
+            "time: 40",
+            "knudsen_number: logspace(0.01, 10, 4), restitution: linspace(1, 0.7, 4)",
+            "knudsen_number: [0.01, 0.1, 1.0, 10.0], restitution: [1.0, 0.9, 0.8, 0.7]",
+        ),
+    ];
+    for (i, (head, run, ranges, lists)) in pairs.into_iter().enumerate() {
+        let (a, b) = (
+            sweep(&format!("ranges{i}"), head, run, ranges),
+            sweep(&format!("lists{i}"), head, run, lists),
+        );
+        let expected = ids(&b, &[]);
+        assert!(expected.len() >= 12);
+        assert_eq!(ids(&a, &[]), expected, "{ranges}");
+        // the resolved sweep writes the values as a list, which reads back the same
+        let resolved = load_sweep(&a, &[]).unwrap().spec;
+        let text = ron::ser::to_string(&resolved).unwrap();
+        assert!(
+            !text.contains("space(") && !text.contains("range("),
+            "{text}"
+        );
+        let reread = spec::parse(Path::new("resolved.ron"), &text).unwrap();
+        assert_eq!(reread.axes, resolved.axes);
+    }
+    // --set takes the same ranges
+    let file = sweep("set", edmd, cpp, "length_over_width: [1.0]");
+    assert_eq!(
+        ids(
+            &file,
+            &[
+                "restitution=linspace(0.5,0.9,5)",
+                "length_over_width=range(1, 2, 0.5)"
+            ]
+        ),
+        ids(&dir.join("lists0.ron"), &[])
+    );
+}
+
+/// A bad range is bad input (exit 2) that names the key and says what a range may be.
+#[test]
+fn bad_ranges_are_refused_naming_the_key() {
+    let dir = scratch("bad-ranges");
+    let file = dir.join("r.ron");
+    let write = |axis: &str| {
+        std::fs::write(
+            &file,
+            format!(
+                "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: ({axis}),\n run: (collisions_per_particle: 40, snapshot_interval: 20))"
+            ),
+        )
+        .unwrap();
+    };
+    let f = file.to_str().unwrap();
+    for (axis, expect) in [
+        (
+            "restitution: linspace(0.5, 0.9, 1)",
+            "count must be a whole number >= 2",
+        ),
+        (
+            "restitution: lnspace(0.5, 0.9, 5)",
+            "did you mean `linspace`?",
+        ),
+        ("restitution: logspace(0, 0.9, 5)", "must be > 0"),
+        ("restitution: range(0.9, 0.5, 0.1)", "does not lead from"),
+        (
+            "restitution: linspace(0.5, 1.5, 3)",
+            "out of range: allowed [0, 1]",
+        ),
+        (
+            "restitution: 0.5",
+            "an axis is a list [v1, v2, ...] or a range",
+        ),
+    ] {
+        write(axis);
+        let out = granflow(&["plan", f, "--results", dir.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{axis}: {err}");
+        assert!(
+            err.contains("restitution") && err.contains(expect),
+            "{axis}: {err}"
+        );
+        assert!(
+            err.contains("r.ron:2:"),
+            "{axis}: the error is placed: {err}"
+        );
+    }
+    write("restitution: [0.7]");
+    for (set, expect) in [
+        (
+            "restitution=linspace(0.5,0.9)",
+            "expected linspace(start, stop, count)",
+        ),
+        ("restitution=range(1,2,0)", "step must not be 0"),
+        ("restitution=linspace(0.5,0.9,x)", "`x` is not a number"),
+        ("seeds=linspace(1,2,3)", "is not a seed"),
+        (
+            "collisions_per_particle=range(10,20,5)",
+            "takes exactly one value",
+        ),
+    ] {
+        let out = granflow(&["plan", f, "--results", dir.to_str().unwrap(), "--set", set]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{set}: {err}");
+        let key = set.split('=').next().unwrap();
+        assert!(
+            err.contains(&format!("key `{key}`")) && err.contains(expect),
+            "{set}: {err}"
+        );
+    }
+    // sim runs one simulation: a range there is refused before anything runs
+    let out = granflow(&["sim", "--set", "restitution=linspace(0.5,0.9,5)"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("granflow run"));
+}
+
+/// Every subcommand's --help (`granflow slurm submit` and `slurm status` too) ends with
+/// examples that run that very subcommand (issue 14, item 7). The list of subcommands comes
+/// from the command definitions, so a new subcommand without examples fails here.
+#[test]
+fn every_subcommand_help_shows_examples() {
+    use clap::CommandFactory;
+    fn paths(command: &clap::Command, prefix: &[String], out: &mut Vec<Vec<String>>) {
+        for sub in command.get_subcommands() {
+            let mut path = prefix.to_vec();
+            path.push(sub.get_name().to_string());
+            out.push(path.clone());
+            paths(sub, &path, out);
+        }
+    }
+    let mut all = Vec::new();
+    paths(&granflow::cli::Cli::command(), &[], &mut all);
+    assert!(all.len() >= 13, "{all:?}");
+    for path in &all {
+        let mut args: Vec<&str> = path.iter().map(String::as_str).collect();
+        args.push("--help");
+        let out = granflow(&args);
+        assert!(out.status.success(), "{args:?}");
+        let help = String::from_utf8_lossy(&out.stdout);
+        let (_, examples) = help
+            .split_once("\nExamples:\n")
+            .unwrap_or_else(|| panic!("`granflow {}` has no examples:\n{help}", path.join(" ")));
+        let invocation = format!("granflow {}", path.join(" "));
+        assert!(
+            examples
+                .lines()
+                .any(|l| l.trim_start().starts_with(&invocation)),
+            "the examples of `{invocation}` do not run it:\n{examples}"
+        );
+    }
+}
+
+/// `granflow completions SHELL` prints a completion script that knows the subcommands.
+#[test]
+fn completions_print_a_script_for_the_shell() {
+    let out = granflow(&["completions", "bash"]);
+    assert!(out.status.success());
+    let script = String::from_utf8_lossy(&out.stdout);
+    assert!(script.contains("_granflow()") && script.contains("complete -F _granflow"));
+    for sub in [
+        "sim",
+        "engines",
+        "bench",
+        "run",
+        "plan",
+        "status",
+        "gather",
+        "phase-diagram",
+        "plot",
+        "slurm",
+        "submit",
+        "completions",
+    ] {
+        assert!(script.contains(sub), "bash completion lacks `{sub}`");
+    }
+    assert!(script.contains("--where") && script.contains("--xyz"));
+    for (shell, marker) in [
+        ("zsh", "#compdef granflow"),
+        ("fish", "complete -c granflow"),
+    ] {
+        let out = granflow(&["completions", shell]);
+        assert!(out.status.success());
+        let script = String::from_utf8_lossy(&out.stdout);
+        assert!(script.contains(marker), "{shell}: {script:.200}");
+        assert!(script.contains("phase-diagram"), "{shell}");
+    }
+    let out = granflow(&["completions", "tcsh"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bash"));
 }

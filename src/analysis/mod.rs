@@ -28,7 +28,7 @@ pub mod steady;
 pub use kind::{Analyser, Analysis, AnalysisKind, Record, StopCheck};
 pub use profiles::BinSums;
 pub use report::MIN_LABEL_RUN;
-pub use snapshot_io::{write_vtk_density, write_xyz};
+pub use snapshot_io::{SnapshotNames, write_vtk_density, write_xyz};
 
 use crate::engine::{Particles, Snapshot};
 use classify::{FamilyPowers, assess, family_powers, noise_per_mode};

@@ -21,6 +21,9 @@ use serde::Serialize;
 use std::time::Instant;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow bench                              # every standard workload, as a table
+  granflow bench --workload channel --json    # the workloads named *channel*, as JSON")]
 pub struct BenchArgs {
     /// print a JSON array instead of a table
     #[arg(long)]

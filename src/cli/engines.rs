@@ -6,6 +6,9 @@ use crate::engine::registry;
 use clap::Args;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow engines              # every engine with its parameters, clocks and counters
+  granflow engines --markdown   # the parameter tables of README.md")]
 pub struct EnginesArgs {
     /// print the parameter tables as markdown (the ones README shows)
     #[arg(long)]

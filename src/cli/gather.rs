@@ -6,6 +6,9 @@ use crate::sweep::tables;
 use clap::Args;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow gather results/quick                      # (re)write results/quick/*.parquet
+  granflow gather sweeps/quick.ron --results /scratch/me/results")]
 pub struct GatherArgs {
     #[command(flatten)]
     pub source: SweepSource,

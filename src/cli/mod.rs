@@ -1,6 +1,7 @@
 //! The command-line front end: clap arguments and one module per command.
 
 mod bench;
+mod completions;
 mod engines;
 mod gather;
 mod params;
@@ -46,6 +47,8 @@ pub enum Command {
     Plot(plot::PlotArgs),
     /// Run a sweep on a Slurm cluster as job arrays (submit), or show it in Slurm (status).
     Slurm(slurm::SlurmArgs),
+    /// Print the shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(completions::CompletionsArgs),
 }
 
 /// Exit code for bad input (files, keys, values).
@@ -74,6 +77,7 @@ pub fn main() -> ExitCode {
         Command::PhaseDiagram(args) => phase_diagram::run(args),
         Command::Plot(args) => plot::run(args),
         Command::Slurm(args) => slurm::run(args),
+        Command::Completions(args) => completions::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -9,6 +9,10 @@ use clap::Args;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow phase-diagram results/quick --x length_over_width --y restitution
+  granflow phase-diagram results/dsmc-knudsen-minimum --minimum-of flow_rate_hat \\
+      --along knudsen_number --x restitution")]
 pub struct PhaseDiagramArgs {
     #[command(flatten)]
     pub source: SweepSource,

@@ -6,13 +6,17 @@ use clap::Args;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow plan sweeps/thesis-fig5-25.ron            # jobs, N and estimated work
+  granflow plan sweeps/quick.ron --set 'restitution=range(0.5,0.9,0.1)' --set seeds=1,2")]
 pub struct PlanArgs {
     /// the sweep file (sweeps/*.ron)
     pub sweep: PathBuf,
     /// results root (to show each job's state)
     #[arg(long, default_value = "results")]
     pub results: PathBuf,
-    /// override a fixed value or an axis: key=value or key=v1,v2,... (repeatable)
+    /// override a fixed value or an axis: key=value, key=v1,v2,... or a range,
+    /// key=linspace(start,stop,count) (also logspace, range; repeatable)
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// only jobs whose parameters meet this condition (repeatable), e.g. --where restitution=0.7

@@ -9,6 +9,9 @@ use crate::sweep::{BadInput, tables};
 use clap::Args;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow plot results/dsmc-knudsen-minimum --x knudsen_number --y flow_rate \\
+      --by restitution --log-x")]
 pub struct PlotArgs {
     #[command(flatten)]
     pub source: SweepSource,

@@ -12,6 +12,11 @@ use clap::Args;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow run sweeps/quick.ron                      # resumable: run it again after a stop
+  granflow run sweeps/quick.ron --threads 2 --set collisions_per_particle=2000
+  granflow run sweeps/quick.ron --set 'restitution=linspace(0.5,0.9,5)' --where length_over_width=1
+  granflow run sweeps/quick.ron --retry-failed")]
 pub struct RunArgs {
     /// the sweep file (sweeps/*.ron)
     pub sweep: PathBuf,
@@ -21,7 +26,8 @@ pub struct RunArgs {
     /// worker threads (default: all cores)
     #[arg(long)]
     pub threads: Option<usize>,
-    /// override a fixed value or an axis: key=value or key=v1,v2,... (repeatable)
+    /// override a fixed value or an axis: key=value, key=v1,v2,... or a range,
+    /// key=linspace(start,stop,count) (also logspace, range; repeatable)
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// only jobs whose plan index (order of `granflow plan`) lies in [START, END); with

@@ -6,12 +6,23 @@ use super::params::ParamFlags;
 use crate::analysis::{self, Analyser, Analysis, JobAnalysis};
 use crate::engine::{Clock, Content, EngineDef, ParamValue, Snapshot, StopAt, Values, registry};
 use crate::sweep::BadInput;
+use crate::sweep::ranges::RangeCall;
 use crate::sweep::spec::{ParamValues, did_you_mean};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  # an EDMD channel (L/W = 2, W/d = H/d = 10, phi = 0.15), analysed at the end
+  granflow sim --length-over-width 2 --width-over-diameter 10 --height-over-diameter 10 \\
+      --volume-fraction 0.15 --restitution 0.7 --collisions-per-particle 2000 --analyse
+  # snapshots for viewers every 100 collisions per particle: XYZ (ASE, OVITO), VTK (ParaView)
+  granflow sim --length-over-width 2 --width-over-diameter 10 --height-over-diameter 10 \\
+      --volume-fraction 0.15 --collisions-per-particle 1000 --report-every 100 \\
+      --xyz frames --vtk fields
+  # another engine, with its example values and one set
+  granflow sim --engine dsmc --set knudsen_number=0.5 --time 20")]
 pub struct SimArgs {
     /// the engine (see `granflow engines`)
     #[arg(long, default_value = "edmd")]
@@ -45,12 +56,12 @@ pub struct SimArgs {
     /// structure label) and print it
     #[arg(long)]
     pub analyse: bool,
-    /// write every snapshot as extended XYZ (OVITO, ParaView) into this directory (particle
-    /// engines)
+    /// write every snapshot, the initial one too, as extended XYZ (ASE, OVITO, ParaView) into
+    /// this directory, named by the clock (snapshot-cpp0000100.xyz); particle engines
     #[arg(long, value_name = "DIR")]
     pub xyz: Option<PathBuf>,
-    /// write the cellwise fields of every snapshot as legacy VTK (ParaView) into this directory
-    /// (particle engines)
+    /// write the cellwise fields of every snapshot as legacy VTK cell data (ParaView) into this
+    /// directory, named by the clock (fields-cpp0000100.vtk); particle engines
     #[arg(long, value_name = "DIR")]
     pub vtk: Option<PathBuf>,
     /// coarse-graining grid for --analyse and --vtk, as N1,N2,N3 (default: about 4 particles
@@ -108,6 +119,12 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
         let (k, v) = s
             .split_once('=')
             .ok_or_else(|| bad(format!("--set {s}: expected key=value")))?;
+        if v.contains(',') || RangeCall::parse(v).is_some() {
+            return Err(bad(format!(
+                "--set {s}: sim runs one simulation, with one value per parameter; sweep \
+                 lists and ranges with `granflow run` (a sweep file, or `run --set`)"
+            )));
+        }
         given.push((
             k.trim().to_string(),
             v.trim().to_string(),
@@ -198,6 +215,18 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
         .analysis
         .analyser(&settings)
         .map_err(|m| bad(format!("--grid: {m}")))?;
+    if !matches!(analyser, Analyser::Structure(_)) {
+        for (flag, given) in [("--xyz", args.xyz.is_some()), ("--vtk", args.vtk.is_some())] {
+            if given {
+                return Err(bad(format!(
+                    "{flag}: the {} engine's snapshots carry no particles to write (engines \
+                     with particles: {})",
+                    engine.name,
+                    particle_engines()
+                )));
+            }
+        }
+    }
     Ok(Plan {
         engine,
         values,
@@ -239,7 +268,8 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
     }
     header.push_str(&format!(" {:>12}", "events/s"));
     let mut records = Vec::new();
-    write_snapshot_files(&args, &first, &plan)?;
+    let names = analysis::SnapshotNames::new(clock, plan.length, plan.every);
+    write_snapshot_files(&args, &first, 0.0, &names, &plan)?;
     if args.analyse {
         records.push(plan.analyser.record(&first).map_err(anyhow::Error::msg)?);
     }
@@ -249,7 +279,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
         next = (next + plan.every).min(plan.length);
         engine.advance(StopAt::on(clock, next))?;
         let s = engine.snapshot();
-        write_snapshot_files(&args, &s, &plan)?;
+        write_snapshot_files(&args, &s, next, &names, &plan)?;
         if args.analyse {
             records.push(plan.analyser.record(&s).map_err(anyhow::Error::msg)?);
         }
@@ -309,6 +339,21 @@ fn print_summary(a: &Analysis) {
     }
 }
 
+/// The engines whose snapshots carry particles (those with the structure analysis).
+fn particle_engines() -> String {
+    registry::ENGINES
+        .iter()
+        .filter(|e| {
+            matches!(
+                e.analysis.analyser(&e.analysis.default_settings()),
+                Ok(Analyser::Structure(_))
+            )
+        })
+        .map(|e| e.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// A column title from a ratio name (`tc_elastic_fraction` -> `TC frac`).
 fn short(name: &str) -> String {
     match name {
@@ -317,20 +362,23 @@ fn short(name: &str) -> String {
     }
 }
 
-/// Write the requested XYZ / VTK files of a snapshot (named by the clock reading).
-fn write_snapshot_files(args: &SimArgs, s: &Snapshot, plan: &Plan) -> anyhow::Result<()> {
-    if args.xyz.is_none() && args.vtk.is_none() {
-        return Ok(());
-    }
-    let at = s.progress.on(plan.clock);
-    let tag = format!("{}{at:010.1}", plan.clock.unit());
+/// Write the requested XYZ / VTK files of the snapshot `s`, taken at `reading` on the run's
+/// clock (the planned point, so that names are round numbers; the files' headers carry the
+/// exact time and collisions per particle).
+fn write_snapshot_files(
+    args: &SimArgs,
+    s: &Snapshot,
+    reading: f64,
+    names: &analysis::SnapshotNames,
+    plan: &Plan,
+) -> anyhow::Result<()> {
     if let Some(dir) = &args.xyz {
-        let path = dir.join(format!("snapshot_{tag}.xyz"));
+        let path = dir.join(names.name("snapshot", reading, "xyz"));
         analysis::write_xyz(&path, s)
             .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
     }
     if let (Some(dir), Analyser::Structure(settings)) = (&args.vtk, &plan.analyser) {
-        let path = dir.join(format!("fields_{tag}.vtk"));
+        let path = dir.join(names.name("fields", reading, "vtk"));
         analysis::write_vtk_density(&path, s, settings)
             .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
     }

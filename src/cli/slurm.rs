@@ -7,6 +7,10 @@ use clap::{Args, Subcommand};
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow slurm submit sweeps/thesis-fig5-25.ron --results /scratch/$USER/granflow \\
+      --partition compute --time 2-00:00:00 --max-parallel 12 -- --account=myproject
+  granflow slurm status /scratch/$USER/granflow/thesis-fig5-25")]
 pub struct SlurmArgs {
     #[command(subcommand)]
     pub command: SlurmCommand,
@@ -22,6 +26,11 @@ pub enum SlurmCommand {
 }
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  # write the script only, to read it
+  granflow slurm submit sweeps/quick.ron --results /scratch/$USER/granflow --dry-run
+  granflow slurm submit sweeps/thesis-fig5-25.ron --results /scratch/$USER/granflow \\
+      --partition compute --time 2-00:00:00 --max-parallel 12 -- --account=myproject --mem=8G")]
 pub struct SubmitArgs {
     /// The sweep file (sweeps/X.ron)
     pub sweep: PathBuf,
@@ -58,6 +67,8 @@ pub struct SubmitArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow slurm status /scratch/$USER/granflow/thesis-fig5-25")]
 pub struct StatusArgs {
     /// The sweep's results directory (results/<sweep>)
     pub results_dir: PathBuf,

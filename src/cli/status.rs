@@ -6,6 +6,10 @@ use crate::sweep::{store, store::JobState, tables};
 use clap::Args;
 
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  granflow status results/quick                      # counts by state, progress, failures
+  granflow status sweeps/quick.ron --where restitution=0.7
+  granflow status results/quick --json | jq '.counts'")]
 pub struct StatusArgs {
     #[command(flatten)]
     pub source: SweepSource,

@@ -18,6 +18,7 @@ pub mod fs_error;
 pub mod grid;
 pub mod job;
 pub mod phase;
+pub mod ranges;
 pub mod runner;
 pub mod select;
 pub mod spec;

@@ -3,6 +3,7 @@
 //! file, line and column, the key and what is allowed ([`SpecError`]).
 
 use super::job::RunSettings;
+use super::ranges::{RANGE_SYNTAX, RangeCall};
 use crate::engine::declare::ParamKind;
 use crate::engine::{Clock, EngineDef, ParamValue, Values, registry};
 use serde::{Deserialize, Serialize};
@@ -16,9 +17,54 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ParamValues(pub Values);
 
-/// Grid axes: a list of values per swept parameter (cartesian product).
+/// Grid axes: a list of values per swept parameter (cartesian product). In a sweep file an
+/// axis is a list `[v1, v2, ...]` or a range (`linspace(0.5, 0.9, 5)`, see [`super::ranges`]),
+/// expanded when read; it is written back as the list.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ParamAxes(pub BTreeMap<String, Vec<ParamValue>>);
+
+/// One axis as written: a list of values, or a range `name(args...)` (RON reads a call
+/// `linspace(0.5, 0.9, 5)` into the untagged form as a map of its name to its arguments).
+#[derive(Deserialize)]
+#[serde(
+    untagged,
+    expecting = "an axis is a list [v1, v2, ...] or a range: linspace(start, stop, count), \
+                 logspace(start, stop, count) or range(start, stop[, step])"
+)]
+enum AxisInput {
+    List(Vec<ParamValue>),
+    Range(BTreeMap<String, Vec<ParamValue>>),
+}
+
+/// The values of one axis, a range expanded as it is read (so that an error is placed at it).
+struct AxisValues(Vec<ParamValue>);
+
+impl<'de> Deserialize<'de> for AxisValues {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let call = match AxisInput::deserialize(d)? {
+            AxisInput::List(values) => return Ok(AxisValues(values)),
+            AxisInput::Range(call) => call,
+        };
+        let (name, args) = call.into_iter().next().ok_or_else(|| {
+            serde::de::Error::custom(format!("an empty range; allowed: {RANGE_SYNTAX}"))
+        })?;
+        let args = args
+            .iter()
+            .map(|a| {
+                a.as_f64().ok_or_else(|| {
+                    format!("{name}(...): the arguments of a range are numbers, not {a}")
+                })
+            })
+            .collect::<Result<Vec<f64>, String>>()
+            .map_err(serde::de::Error::custom)?;
+        let values = RangeCall::new(&name, args)
+            .and_then(|c| c.expand())
+            .map_err(serde::de::Error::custom)?;
+        Ok(AxisValues(
+            values.into_iter().map(ParamValue::Number).collect(),
+        ))
+    }
+}
 
 /// A RON struct (or map) of parameter names to values, read field by field.
 struct NamedVisitor<T>(std::marker::PhantomData<T>);
@@ -93,8 +139,8 @@ impl Serialize for ParamValues {
 
 impl<'de> Deserialize<'de> for ParamAxes {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        d.deserialize_any(NamedVisitor(std::marker::PhantomData))
-            .map(ParamAxes)
+        d.deserialize_any(NamedVisitor::<AxisValues>(std::marker::PhantomData))
+            .map(|axes| ParamAxes(axes.into_iter().map(|(k, v)| (k, v.0)).collect()))
     }
 }
 
@@ -372,8 +418,8 @@ pub fn engine_of(spec: &SweepSpec) -> Option<&'static EngineDef> {
 }
 
 /// Apply `--set key=value[,value...]` overrides: one value replaces a fixed value (and removes
-/// the axis or link that set it, and its alternatives, e.g. phi for N); several values make
-/// (or replace) an axis. `seeds=1,2,3`, a run length (`collisions_per_particle=X`, `steps=X`,
+/// the axis or link that set it, and its alternatives, e.g. phi for N); several values, or a
+/// range (`key=linspace(0.5, 0.9, 5)`, as in sweep files), make (or replace) an axis. `seeds=1,2,3`, a run length (`collisions_per_particle=X`, `steps=X`,
 /// `time=X`), `snapshot_interval=X` and `until_steady=WINDOW` (or `off`) set the run. Extra points keep their own explicit
 /// values.
 pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(), SpecError> {
@@ -387,7 +433,17 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
             return Err(bad(None, "expected key=value or key=v1,v2,...".into()));
         };
         let key = key.trim();
-        let values: Vec<&str> = value.split(',').map(str::trim).collect();
+        // a range (`linspace(0.5, 0.9, 5)`) gives its values, else a comma-separated list
+        let texts: Vec<String> = match RangeCall::parse(value) {
+            Some(call) => call
+                .and_then(|c| c.expand())
+                .map_err(|m| bad(Some(key), m))?
+                .iter()
+                .map(f64::to_string)
+                .collect(),
+            None => value.split(',').map(|v| v.trim().to_string()).collect(),
+        };
+        let values: Vec<&str> = texts.iter().map(String::as_str).collect();
         let parse_f64 = |s: &str| -> Result<f64, SpecError> {
             match s.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(v),
