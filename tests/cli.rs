@@ -36,6 +36,13 @@ fn where_selects_jobs_and_status_speaks_json() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // the tables written at the end are the whole sweep's (2 done, 2 pending), not the
+    // selection's
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("tables: 4 jobs of the sweep (2 done)"), "{stdout}");
+    let jobs_table = std::fs::File::open(results.join("w").join("jobs.parquet")).unwrap();
+    let jobs_table = polars::prelude::SerReader::finish(polars::prelude::ParquetReader::new(jobs_table)).unwrap();
+    assert_eq!(jobs_table.height(), 4);
     let out = granflow(&["status", f, "--results", r, "--json"]);
     assert!(out.status.success());
     let status: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();

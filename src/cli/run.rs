@@ -137,6 +137,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         (None, None) => None,
     };
     let engine = sweep.engine();
+    // --where picks the jobs to run; the tables and the diagram stay those of the whole sweep
+    let whole = (!args.conditions.is_empty()).then(|| sweep.clone());
     crate::sweep::select::retain(&mut sweep.plan, &args.conditions, engine)?;
     if sweep.plan.is_empty() {
         return Err(BadInput("--where selects no job of the sweep".into()).into());
@@ -168,7 +170,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         job_range,
         // a --job-range run is one slice of a sweep (a Slurm array task): writing the whole
         // sweep's tables from every slice would cost O(jobs) per task; `gather` does it once
-        write_tables: job_range.is_none() && !by_ids,
+        write_tables: job_range.is_none() && !by_ids && whole.is_none(),
         write_resolved: !by_ids,
     };
     let summary = run_sweep(&sweep, &dirs, &opts)?;
@@ -181,10 +183,25 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
+    let selected: std::collections::HashSet<String> =
+        sweep.plan.iter().map(|j| j.id.0.clone()).collect();
+    let sweep = match whole {
+        Some(whole) if job_range.is_none() && !by_ids => {
+            let written = tables::gather(&whole, &dirs)?;
+            say!(
+                "tables: {} jobs of the sweep ({} done) in {}",
+                written.jobs,
+                written.done,
+                dirs.tables.display()
+            );
+            whole
+        }
+        _ => sweep,
+    };
     let jobs = tables::collect(&sweep, &dirs);
     let failed: Vec<_> = jobs
         .iter()
-        .filter(|j| matches!(j.state.name(), "failed" | "damaged"))
+        .filter(|j| matches!(j.state.name(), "failed" | "damaged") && selected.contains(&j.job.id.0))
         .collect();
     let failures = failed.len();
     if !failed.is_empty() {
