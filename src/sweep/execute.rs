@@ -153,6 +153,10 @@ pub fn run_job(
         .analyse(&records)
         .map_err(|e| anyhow::anyhow!("analysing the job's {} records: {e}", records.len()))?;
     analysis.write_figures(dir)?;
+    crate::report::job_figures::write(
+        dir,
+        &crate::report::job_figures::figures(&analysis, &records),
+    )?;
     let wall_seconds = wall_before + started.elapsed().as_secs_f64();
     let def = job.params.def();
     let mut provenance = Provenance::here(def.version, def.analysis.version());
