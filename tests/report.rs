@@ -429,7 +429,7 @@ fn phase_diagram_has_symbols_a_title_a_full_legend_and_a_size() {
     for cell in diagram.cells.values() {
         if let Some(v) = cell.verdict() {
             assert!(
-                texts.iter().any(|t| *t == v.label),
+                texts.contains(&v.label),
                 "no legend for {}: {texts:?}",
                 v.label
             );

@@ -180,11 +180,11 @@ pub fn page(
         .filter(|(_, c)| *c > 0)
         .map(|(n, c)| format!("{c} {n}"))
         .collect();
-    let _ = write!(
+    let _ = writeln!(
         h,
         "{} jobs: {}. Results in <code>{}</code>. Written {} by granflow {} ({}); \
          run <code>granflow report {}</code> again to bring it up to date. \
-         The page needs no network: every figure is inside this file.</p>\n",
+         The page needs no network: every figure is inside this file.</p>",
         views.len(),
         counts.join(", "),
         escape(&dirs.tables.display().to_string()),
@@ -220,14 +220,9 @@ pub fn page(
     h
 }
 
-/// The swept parameters (and the seed when there are several) that name a job.
-fn naming_params(sweep: &Sweep) -> Vec<&'static str> {
-    swept_in(sweep)
-}
-
 fn jobs_table(h: &mut String, sweep: &Sweep, views: &[JobView]) {
     let engine = sweep.engine();
-    let swept = naming_params(sweep);
+    let swept = swept_in(sweep);
     let seeds = sweep.spec.seeds.len() > 1;
     let keys = key_columns(engine.analysis);
     h.push_str(
@@ -334,7 +329,7 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
     let run = &job.params.run;
     let dir = dirs.job_dir(&job.id);
     let state = &v.gathered.state;
-    let point = point_text(engine, &job.params, &naming_params(sweep));
+    let point = point_text(engine, &job.params, &swept_in(sweep));
     let label = v
         .analysis
         .as_ref()

@@ -5,7 +5,8 @@
 //!   power-spectrum maps with the modes that stand above shot noise outlined), `density` (phi
 //!   of the last snapshot in the three planes, as thesis Figs. 5.2-5.24) and `labels` (the label
 //!   of every snapshot along the run);
-//! - lattice gas: `spacetime` (the seed's Fig. 1 picture);
+//! - lattice gas: `spacetime` (the seed's Fig. 1 picture; PNG only, a raster of up to 10^5
+//!   cells);
 //! - rarefied gas (DSMC): `profiles` (density, velocity, temperature with their errors).
 //!
 //! A running job's figures are drawn the same way from the records it has written so far.
@@ -95,6 +96,12 @@ impl JobFigure {
         crate::figure::render_png(self.size(), |root| self.draw(root))
     }
 
+    /// Whether the figure is a picture of many cells better kept as a raster only (the
+    /// lattice gas' space-time picture: up to 10^5 cells, megabytes as SVG).
+    pub fn raster_only(&self) -> bool {
+        matches!(self.plot, Plot::Spacetime(_))
+    }
+
     /// The figure as SVG text.
     pub fn svg(&self) -> anyhow::Result<String> {
         crate::figure::render_svg(self.size(), |root| self.draw(root))
@@ -159,8 +166,8 @@ pub fn figures(analysis: &Analysis, records: &[Record]) -> Vec<JobFigure> {
     }
 }
 
-/// Write figures into the job directory's `figures/` as `<name>.png` and `<name>.svg`; the
-/// paths written.
+/// Write figures into the job directory's `figures/` as `<name>.png` and `<name>.svg` (PNG
+/// only for [`JobFigure::raster_only`] ones); the paths written.
 pub fn write(job_dir: &Path, figures: &[JobFigure]) -> anyhow::Result<Vec<PathBuf>> {
     if figures.is_empty() {
         return Ok(Vec::new());
@@ -171,18 +178,26 @@ pub fn write(job_dir: &Path, figures: &[JobFigure]) -> anyhow::Result<Vec<PathBu
     for f in figures {
         let png = dir.join(format!("{}.png", f.name));
         crate::sweep::write_atomic(&png, &f.png()?)?;
-        let svg = dir.join(format!("{}.svg", f.name));
-        crate::sweep::write_atomic(&svg, f.svg()?.as_bytes())?;
-        written.extend([png, svg]);
+        written.push(png);
+        if !f.raster_only() {
+            let svg = dir.join(format!("{}.svg", f.name));
+            crate::sweep::write_atomic(&svg, f.svg()?.as_bytes())?;
+            written.push(svg);
+        }
     }
     Ok(written)
 }
 
-/// Whether every figure is on disk in the job directory (both formats).
+/// Whether every figure is on disk in the job directory (in each of its formats).
 pub fn all_written(job_dir: &Path, figures: &[JobFigure]) -> bool {
     let dir = job_dir.join(FIGURES_DIR);
     figures.iter().all(|f| {
-        ["png", "svg"]
+        let formats: &[&str] = if f.raster_only() {
+            &["png"]
+        } else {
+            &["png", "svg"]
+        };
+        formats
             .iter()
             .all(|ext| dir.join(format!("{}.{ext}", f.name)).exists())
     })
@@ -286,7 +301,7 @@ fn spectra_figure(a: &JobAnalysis) -> Option<JobFigure> {
     let s = &a.summary;
     let n = [s.grid_x, s.grid_y, s.grid_z].map(|k| k as usize);
     let p0 = s.noise_level;
-    if a.spectra.is_empty() || n.contains(&0) || !(p0 > 0.0) {
+    if a.spectra.is_empty() || n.contains(&0) || p0.is_nan() || p0 <= 0.0 {
         return None;
     }
     let planes = [
@@ -496,7 +511,8 @@ fn window_colour(steady: bool) -> RGBColor {
 /// A tick label: at most 4 significant digits, no trailing zeros.
 fn tick(v: &f64) -> String {
     let v = *v;
-    if v == 0.0 || !v.is_finite() {
+    // round-off about zero (e.g. -5.6e-17 on a symmetric axis) is zero
+    if v.abs() < 1e-10 || !v.is_finite() {
         return "0".into();
     }
     if v.abs() >= 1e5 || v.abs() < 1e-3 {
