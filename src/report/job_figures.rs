@@ -173,7 +173,7 @@ pub fn write(job_dir: &Path, figures: &[JobFigure]) -> anyhow::Result<Vec<PathBu
         return Ok(Vec::new());
     }
     let dir = job_dir.join(FIGURES_DIR);
-    std::fs::create_dir_all(&dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(|e| crate::sweep::fs_error::PathError::new(&dir, e))?;
     let mut written = Vec::new();
     for f in figures {
         let png = dir.join(format!("{}.png", f.name));
