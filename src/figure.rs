@@ -1,6 +1,7 @@
 //! Figures on disk: the one place that turns a plotters drawing into a PNG or SVG file (the
 //! embedded font, the PNG encoding by the `png` crate, atomic writes). Phase diagrams, the
-//! lattice gas' space-time picture and the curve plots draw; this module writes.
+//! lattice gas' space-time picture, the curve plots and the per-job figures draw; this module
+//! renders (to bytes, for pages that inline them) and writes.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -37,7 +38,20 @@ pub fn encode_png(rgb: &[u8], w: u32, h: u32) -> anyhow::Result<Vec<u8>> {
 }
 
 /// Draw a `w` x `h` picture on a white bitmap and write it to `path` as PNG (atomically).
-pub fn save_png<F>(path: &Path, (w, h): (u32, u32), draw: F) -> anyhow::Result<()>
+pub fn save_png<F>(path: &Path, size: (u32, u32), draw: F) -> anyhow::Result<()>
+where
+    F: FnOnce(
+        &DrawingArea<BitMapBackend<'_>, Shift>,
+    ) -> Result<(), DrawingError<BitMapBackend<'static>>>,
+{
+    let bytes = render_png(size, draw).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    crate::sweep::write_atomic(path, &bytes)?;
+    Ok(())
+}
+
+/// Draw a `w` x `h` picture on a white bitmap and return it encoded as PNG (for files and for
+/// pages that inline their figures).
+pub fn render_png<F>((w, h): (u32, u32), draw: F) -> anyhow::Result<Vec<u8>>
 where
     F: FnOnce(
         &DrawingArea<BitMapBackend<'_>, Shift>,
@@ -47,13 +61,11 @@ where
     let mut buf = vec![255u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        draw(&root).map_err(|e| anyhow::anyhow!("drawing {}: {e}", path.display()))?;
+        draw(&root).map_err(|e| anyhow::anyhow!("drawing: {e}"))?;
         root.present()
-            .map_err(|e| anyhow::anyhow!("drawing {}: {e}", path.display()))?;
+            .map_err(|e| anyhow::anyhow!("drawing: {e}"))?;
     }
-    let bytes = encode_png(&buf, w, h)?;
-    crate::sweep::write_atomic(path, &bytes)?;
-    Ok(())
+    encode_png(&buf, w, h)
 }
 
 /// Draw a `w` x `h` picture as SVG and write it to `path` (atomically).
@@ -61,14 +73,23 @@ pub fn save_svg<F>(path: &Path, size: (u32, u32), draw: F) -> anyhow::Result<()>
 where
     F: FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), DrawingError<SVGBackend<'static>>>,
 {
+    let text = render_svg(size, draw).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    crate::sweep::write_atomic(path, text.as_bytes())?;
+    Ok(())
+}
+
+/// Draw a `w` x `h` picture as SVG and return its text.
+pub fn render_svg<F>(size: (u32, u32), draw: F) -> anyhow::Result<String>
+where
+    F: FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), DrawingError<SVGBackend<'static>>>,
+{
     register_font();
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
-        draw(&root).map_err(|e| anyhow::anyhow!("drawing {}: {e}", path.display()))?;
+        draw(&root).map_err(|e| anyhow::anyhow!("drawing: {e}"))?;
         root.present()
-            .map_err(|e| anyhow::anyhow!("drawing {}: {e}", path.display()))?;
+            .map_err(|e| anyhow::anyhow!("drawing: {e}"))?;
     }
-    crate::sweep::write_atomic(path, text.as_bytes())?;
-    Ok(())
+    Ok(text)
 }

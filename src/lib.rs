@@ -12,6 +12,7 @@
 //! - [`sweep`]: sweep files, grids, job ids, the resumable queue, tables, phase diagrams.
 //! - [`slurm`]: job arrays on a Slurm cluster running the same job code; status via squeue.
 //! - [`provenance`]: which code made a result (version, commit, engine and analysis versions).
+//! - [`report`]: per-job figures and the one-file HTML report of a sweep.
 //! - [`cli`]: the command-line front end.
 
 pub mod analysis;
@@ -19,5 +20,6 @@ pub mod cli;
 pub mod engine;
 pub mod figure;
 pub mod provenance;
+pub mod report;
 pub mod slurm;
 pub mod sweep;

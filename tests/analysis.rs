@@ -4,7 +4,7 @@
 //! homogeneous at several N and grids). The XYZ / VTK writers are tested in tests/viewer.rs.
 
 use granflow::analysis::classify::{
-    assess, family_dims, family_modes, family_powers, noise_per_mode,
+    assess, family_dims, family_modes, family_powers, noise_per_mode, significant_plane_modes,
 };
 use granflow::analysis::fields::Grid;
 use granflow::analysis::spectrum::{fold, power_2d};
@@ -280,6 +280,43 @@ fn shot_noise_of_random_positions_matches_the_prediction() {
             );
         }
     }
+}
+
+/// The modes the spectrum figures outline: none in random arrangements (each plane's
+/// false-alarm probability is that of one 5-sigma test), the planted plug mode where there is
+/// one.
+#[test]
+fn significant_plane_modes_mark_a_planted_mode_and_not_noise() {
+    let g = channel(18.0, 30.0, 30.0);
+    let settings = AnalysisSettings {
+        grid: Some([9, 14, 14]),
+        ..AnalysisSettings::default()
+    };
+    let mut rng = Pcg64::seed_from_u64(5);
+    let mut marked = |rho: &dyn Fn(f64, f64, f64) -> f64| {
+        let r = record_snapshot(
+            &snapshot(g, sample(&g, 4800, rho, &mut rng), 1.0),
+            &settings,
+        );
+        let [n1, n2, n3] = r.grid.map(|k| k as usize);
+        let p0 = noise_per_mode(4800, r.grid_volume);
+        let [xy, xz, yz] = plane_fields(&r);
+        [(xy, n1, n2), (xz, n1, n3), (yz, n2, n3)].map(|(f, a, b)| {
+            significant_plane_modes(&fold(&power_2d(&f, a, b), a, b), a, b, p0)
+                .into_iter()
+                .map(|m| (m.0, m.1))
+                .collect::<Vec<_>>()
+        })
+    };
+    for _ in 0..20 {
+        assert_eq!(marked(&|_, _, _| 1.0), [vec![], vec![], vec![]]);
+    }
+    // a plug: one wave across the gridded width (y from d/2 to W - d/2)
+    let plug = |_x: f64, y: f64, _z: f64| 0.5 + 0.4 * (2.0 * PI * (y - 0.5) / 29.0).cos();
+    let [xy, xz, yz] = marked(&plug);
+    assert_eq!(xy.first(), Some(&(0, 1)), "{xy:?}");
+    assert_eq!(yz.first(), Some(&(1, 0)), "{yz:?}");
+    assert!(xz.is_empty(), "the xz plane averages y out: {xz:?}");
 }
 
 #[test]

@@ -356,6 +356,41 @@ pub fn family_modes(p: &FamilyPowers, n: [usize; 3]) -> [Vec<Mode>; 5] {
     out
 }
 
+/// The modes of a folded plane spectrum (layout of [`fold`], grid `na` x `nb`) that stand
+/// above shot noise on their own: power / (dims P0) above the peak test's threshold with the
+/// false-alarm probability shared among the plane's modes, as the families' peak test shares
+/// it among theirs. Returns (k1, k2, power / (dims P0), threshold), strongest first.
+pub fn significant_plane_modes(
+    folded: &[f64],
+    na: usize,
+    nb: usize,
+    p0: f64,
+) -> Vec<(usize, usize, f64, f64)> {
+    let (m1, m2) = folded_shape(na, nb);
+    let modes: Vec<(usize, usize, f64, usize)> = (0..m1)
+        .flat_map(|k1| (0..m2).map(move |k2| (k1, k2)))
+        .filter(|&(k1, k2)| k1 + k2 > 0 && k1 * m2 + k2 < folded.len())
+        .map(|(k1, k2)| {
+            let dims = multiplicity(k1, na) * multiplicity(k2, nb);
+            (k1, k2, folded[k1 * m2 + k2], dims)
+        })
+        .collect();
+    if modes.is_empty() || p0 <= 0.0 {
+        return Vec::new();
+    }
+    let p_mode = false_alarm() / modes.len() as f64;
+    let mut out: Vec<(usize, usize, f64, f64)> = modes
+        .into_iter()
+        .filter_map(|(k1, k2, power, dims)| {
+            let ratio = power / (dims as f64 * p0);
+            let threshold = chi2_ratio_quantile(dims as f64, p_mode).max(MIN_RATIO);
+            (ratio > threshold).then_some((k1, k2, ratio, threshold))
+        })
+        .collect();
+    out.sort_by(|a, b| b.2.total_cmp(&a.2));
+    out
+}
+
 /// The strongest mode of a family relative to its peak-test threshold.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Peak {

@@ -756,10 +756,17 @@ fn spacetime(records: &[LatticeRecord], rows: usize) -> Vec<SpacetimeCell> {
         .collect()
 }
 
-/// Draw the space-time picture as a PNG in the style of the seed's Fig. 1: bins along the
-/// pipe from top to bottom (gravity downwards), time from left to right, gray level linear in
-/// the bin count n_i (white at the smallest count of the picture, black at the largest).
+/// Draw the space-time picture as a PNG in the style of the seed's Fig. 1 (see
+/// [`draw_spacetime`]).
 pub fn plot_spacetime(analysis: &LatticeAnalysis, path: &Path) -> anyhow::Result<()> {
+    crate::figure::save_png(path, spacetime_size(analysis), |root| {
+        draw_spacetime(analysis, root)
+    })
+}
+
+/// Columns (records), rows (bins) and pixels per cell of the space-time picture, and the
+/// margins left, top, right, bottom.
+fn spacetime_layout(analysis: &LatticeAnalysis) -> ((usize, usize), (u32, u32), [u32; 4]) {
     let cells = &analysis.spacetime;
     let mut steps: Vec<u64> = cells.iter().map(|c| c.step).collect();
     steps.dedup();
@@ -768,48 +775,67 @@ pub fn plot_spacetime(analysis: &LatticeAnalysis, path: &Path) -> anyhow::Result
     // pixels per cell: at least 1, pictures at least ~400 px wide and tall
     let px = (600 / cols).clamp(1, 8) as u32;
     let py = (400 / rows).clamp(1, 8) as u32;
-    let (left, top, right, bottom) = (70u32, 20u32, 20u32, 50u32);
-    let (w, h) = (
+    ((cols, rows), (px, py), [70, 20, 20, 50])
+}
+
+/// The size of the space-time picture in pixels.
+pub fn spacetime_size(analysis: &LatticeAnalysis) -> (u32, u32) {
+    let ((cols, rows), (px, py), [left, top, right, bottom]) = spacetime_layout(analysis);
+    (
         left + right + px * cols as u32,
         top + bottom + py * rows as u32,
-    );
+    )
+}
+
+/// Draw the space-time picture in the style of the seed's Fig. 1: bins along the pipe from top
+/// to bottom (gravity downwards), time from left to right, gray level linear in the bin count
+/// n_i (white at the smallest count of the picture, black at the largest). The area must be
+/// [`spacetime_size`].
+pub fn draw_spacetime<DB: DrawingBackend>(
+    analysis: &LatticeAnalysis,
+    root: &plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let cells = &analysis.spacetime;
+    let mut steps: Vec<u64> = cells.iter().map(|c| c.step).collect();
+    steps.dedup();
+    let nb = cells.iter().map(|c| c.bin as usize + 1).max().unwrap_or(0);
+    let (_, (px, py), [left, top, _, bottom]) = spacetime_layout(analysis);
+    let (_, h) = spacetime_size(analysis);
     let lo = cells.iter().map(|c| c.count).min().unwrap_or(0);
     let hi = cells.iter().map(|c| c.count).max().unwrap_or(1).max(lo + 1);
-    crate::figure::save_png(path, (w, h), |root| {
-        root.fill(&WHITE)?;
-        let mut col = 0usize;
-        let mut last = None;
-        for c in cells {
-            if last != Some(c.step) {
-                if last.is_some() {
-                    col += 1;
-                }
-                last = Some(c.step);
+    root.fill(&WHITE)?;
+    let mut col = 0usize;
+    let mut last = None;
+    for c in cells {
+        if last != Some(c.step) {
+            if last.is_some() {
+                col += 1;
             }
-            let g = 255 - (255.0 * f64::from(c.count - lo) / f64::from(hi - lo)).round() as u8;
-            let x0 = (left + px * col as u32) as i32;
-            let y0 = (top + py * c.bin) as i32;
-            root.draw(&Rectangle::new(
-                [(x0, y0), (x0 + px as i32, y0 + py as i32)],
-                RGBColor(g, g, g).filled(),
-            ))?;
+            last = Some(c.step);
         }
-        let font = ("sans-serif", 13).into_font();
-        let first = steps.first().copied().unwrap_or(0);
-        let last = steps.last().copied().unwrap_or(0);
-        root.draw(&Text::new(
-            format!("step {first} .. {last} ->"),
-            (left as i32, (h - bottom + 12) as i32),
-            font.clone(),
+        let g = 255 - (255.0 * f64::from(c.count - lo) / f64::from(hi - lo)).round() as u8;
+        let x0 = (left + px * col as u32) as i32;
+        let y0 = (top + py * c.bin) as i32;
+        root.draw(&Rectangle::new(
+            [(x0, y0), (x0 + px as i32, y0 + py as i32)],
+            RGBColor(g, g, g).filled(),
         ))?;
-        root.draw(&Text::new(
-            format!(
-                "bins 0..{} (gravity down), gray {lo}..{hi}",
-                nb.saturating_sub(1)
-            ),
-            (left as i32, (h - bottom + 30) as i32),
-            font,
-        ))?;
-        Ok(())
-    })
+    }
+    let font = ("sans-serif", 13).into_font();
+    let first = steps.first().copied().unwrap_or(0);
+    let last = steps.last().copied().unwrap_or(0);
+    root.draw(&Text::new(
+        format!("step {first} .. {last} ->"),
+        (left as i32, (h - bottom + 12) as i32),
+        font.clone(),
+    ))?;
+    root.draw(&Text::new(
+        format!(
+            "bins 0..{} (gravity down), gray {lo}..{hi}",
+            nb.saturating_sub(1)
+        ),
+        (left as i32, (h - bottom + 30) as i32),
+        font,
+    ))?;
+    Ok(())
 }

@@ -475,6 +475,49 @@ fn has_fields(r: &SnapshotRecord) -> bool {
         && r.counts_yz.len() == n2 * n3
 }
 
+/// The reference record (the last with fields) and the family powers of every record on its
+/// grid (None for records without fields or on another grid).
+fn common_grid_families(
+    records: &[SnapshotRecord],
+) -> (Option<&SnapshotRecord>, Vec<Option<FamilyPowers>>) {
+    let reference = records.iter().rev().find(|r| has_fields(r));
+    let families = records
+        .iter()
+        .map(|r| {
+            let same = has_fields(r)
+                && reference.is_some_and(|q| q.grid == r.grid && q.particles == r.particles);
+            same.then(|| {
+                let [xy, xz, yz] = plane_fields(r);
+                family_powers(&xy, &xz, &yz, r.grid.map(|k| k as usize))
+            })
+        })
+        .collect();
+    (reference, families)
+}
+
+/// The label of every snapshot assessed on its own (as in the evolution and the label
+/// probabilities: same grid, same thresholds), in order: (collisions per particle, label key
+/// such as `s-wave(2)`). Records without fields on the common grid are left out.
+pub fn snapshot_labels(records: &[SnapshotRecord]) -> Vec<(f64, String)> {
+    let (reference, families) = common_grid_families(records);
+    let Some(q) = reference else {
+        return Vec::new();
+    };
+    let n = q.grid.map(|k| k as usize);
+    let p0 = noise_per_mode(q.particles as usize, q.grid_volume);
+    records
+        .iter()
+        .zip(&families)
+        .filter_map(|(r, f)| {
+            let a = assess(f.as_ref()?, n, p0);
+            Some((
+                r.collisions_per_particle,
+                labels::label_key(a.label, a.humps),
+            ))
+        })
+        .collect()
+}
+
 /// Analyse a job's snapshot records (in order of simulated time): energy trace, steady window,
 /// window-averaged spectra, families and profiles, the label, and its evolution per snapshot.
 /// Never panics; with fewer than `min_steady_snapshots` records the run is "not-steady".
@@ -501,19 +544,10 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
 
     // per-snapshot family powers and verdicts (records with a usable grid, same grid as the
     // last record)
-    let reference = records.iter().rev().find(|r| has_fields(r));
+    let (reference, families) = common_grid_families(records);
     let same_grid = |r: &SnapshotRecord| {
         has_fields(r) && reference.is_some_and(|q| q.grid == r.grid && q.particles == r.particles)
     };
-    let families: Vec<Option<FamilyPowers>> = records
-        .iter()
-        .map(|r| {
-            same_grid(r).then(|| {
-                let [xy, xz, yz] = plane_fields(r);
-                family_powers(&xy, &xz, &yz, r.grid.map(|k| k as usize))
-            })
-        })
-        .collect();
 
     let mut summary = empty_summary();
     let mut spectra = Vec::new();

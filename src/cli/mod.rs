@@ -8,6 +8,7 @@ mod params;
 mod phase_diagram;
 mod plan;
 mod plot;
+mod report;
 mod run;
 mod sim;
 mod slurm;
@@ -45,6 +46,9 @@ pub enum Command {
     PhaseDiagram(phase_diagram::PhaseDiagramArgs),
     /// Plot a column of the jobs table over a swept parameter, one curve per value of another.
     Plot(plot::PlotArgs),
+    /// Write one self-contained HTML report of a sweep (diagram, jobs, figures); also while it
+    /// runs.
+    Report(report::ReportArgs),
     /// Run a sweep on a Slurm cluster as job arrays (submit), or show it in Slurm (status).
     Slurm(slurm::SlurmArgs),
     /// Print the shell completion script (bash, zsh, fish, elvish, powershell).
@@ -76,6 +80,7 @@ pub fn main() -> ExitCode {
         Command::Gather(args) => gather::run(args),
         Command::PhaseDiagram(args) => phase_diagram::run(args),
         Command::Plot(args) => plot::run(args),
+        Command::Report(args) => report::run(args),
         Command::Slurm(args) => slurm::run(args),
         Command::Completions(args) => completions::run(args),
     };

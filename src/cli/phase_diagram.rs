@@ -3,7 +3,7 @@
 //! the grid of where column C has an interior minimum along parameter R.
 
 use super::source::SweepSource;
-use crate::sweep::phase::{PhaseDiagram, swept_in};
+use crate::sweep::phase::{Frame, PhaseDiagram, choose_axes, swept_in, title};
 use crate::sweep::{BadInput, tables};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -30,6 +30,53 @@ pub struct PhaseDiagramArgs {
     /// the parameter the curves of `--minimum-of` run along (judged in log scale)
     #[arg(long, requires = "minimum_of", value_name = "PARAMETER")]
     pub along: Option<String>,
+    #[command(flatten)]
+    pub size: FigureSize,
+}
+
+/// The size and resolution of a diagram's pictures.
+#[derive(Debug, Args)]
+pub struct FigureSize {
+    /// picture width in CSS pixels, 300 to 8000 (default: from the grid and the legend)
+    #[arg(long, value_name = "PX")]
+    pub width: Option<u32>,
+    /// picture height in CSS pixels, 200 to 8000 (default: from the grid, title and legend)
+    #[arg(long, value_name = "PX")]
+    pub height: Option<u32>,
+    /// resolution of the PNG in dots per inch, 24 to 600: 96 gives one pixel per CSS pixel,
+    /// 192 twice as many each way (for print); the SVG is vector
+    #[arg(long, default_value_t = 96.0)]
+    pub dpi: f64,
+}
+
+impl FigureSize {
+    /// The frame of a diagram of `sweep` over `axes` with this size; bad sizes are refused.
+    pub fn frame(&self, sweep: &crate::sweep::Sweep, axes: &[&str]) -> Result<Frame, BadInput> {
+        for (name, v, lo, hi) in [
+            ("--width", self.width, 300, 8000),
+            ("--height", self.height, 200, 8000),
+        ] {
+            if let Some(v) = v
+                && !(lo..=hi).contains(&v)
+            {
+                return Err(BadInput(format!(
+                    "{name} {v} is out of range: allowed {lo} to {hi} (CSS pixels)"
+                )));
+            }
+        }
+        if !(self.dpi.is_finite() && (24.0..=600.0).contains(&self.dpi)) {
+            return Err(BadInput(format!(
+                "--dpi {} is out of range: allowed 24 to 600",
+                self.dpi
+            )));
+        }
+        Ok(Frame {
+            width: self.width,
+            height: self.height,
+            dpi: self.dpi,
+            title: title(sweep, axes),
+        })
+    }
 }
 
 /// Write `phase-<x>[-<y>].png` and `.svg` into `dir`; returns their paths.
@@ -48,43 +95,22 @@ pub fn write_plots(diagram: &PhaseDiagram, dir: &Path) -> anyhow::Result<(PathBu
 pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let jobs = tables::collect(&sweep, &dirs);
-    let swept = swept_in(&sweep);
-    let axes: Vec<&str> = swept
-        .iter()
-        .copied()
+    let (x, y) = choose_axes(
+        &sweep,
+        args.x.as_deref(),
+        args.y.as_deref(),
+        args.along.as_deref(),
+    )
+    .map_err(BadInput)?;
+    let swept: Vec<&str> = swept_in(&sweep)
+        .into_iter()
         .filter(|s| Some(*s) != args.along.as_deref())
         .collect();
-    let swept = axes;
-    let x = match args
-        .x
-        .clone()
-        .or_else(|| swept.first().map(|s| s.to_string()))
-    {
-        Some(x) => x,
-        None => return Err(BadInput("nothing is swept: give --x".into()).into()),
-    };
-    let y = args.y.clone().or_else(|| {
-        if args.x.is_some() {
-            None
-        } else {
-            swept.get(1).map(|s| s.to_string())
-        }
-    });
-    for axis in std::iter::once(x.as_str()).chain(y.as_deref()) {
-        if sweep.engine().param(axis).is_some() && !swept.contains(&axis) {
-            return Err(BadInput(format!(
-                "`{axis}` does not vary in this sweep (one value for every job): a diagram over it \
-                 would merge different points; swept: {}",
-                if swept.is_empty() {
-                    "nothing".to_string()
-                } else {
-                    swept.join(", ")
-                }
-            ))
-            .into());
-        }
-    }
-    let diagram = match (&args.minimum_of, &args.along) {
+    let mut axes_shown: Vec<&str> = vec![x.as_str()];
+    axes_shown.extend(y.as_deref());
+    axes_shown.extend(args.along.as_deref());
+    let frame = args.size.frame(&sweep, &axes_shown)?;
+    let mut diagram = match (&args.minimum_of, &args.along) {
         (Some(column), Some(along)) => crate::sweep::curves::minimum_diagram(
             sweep.engine(),
             &jobs,
@@ -97,6 +123,7 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
         _ => PhaseDiagram::build(sweep.engine(), &jobs, &x, y.as_deref()),
     }
     .map_err(BadInput)?;
+    diagram.frame = frame;
     let others: Vec<_> = swept
         .iter()
         .filter(|s| **s != x && Some(**s) != y.as_deref())

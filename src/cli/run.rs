@@ -231,8 +231,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         let swept = phase::swept_in(&sweep);
         if let Some(&x) = swept.first() {
             let y = swept.get(1).copied();
-            let diagram =
+            let mut diagram =
                 phase::PhaseDiagram::build(sweep.engine(), &jobs, x, y).map_err(BadInput)?;
+            diagram.frame.title =
+                phase::title(&sweep, &[x].into_iter().chain(y).collect::<Vec<_>>());
             let (png, svg) = super::phase_diagram::write_plots(&diagram, &dirs.tables)?;
             say!(
                 "\nphase diagram ({}):\n{}",

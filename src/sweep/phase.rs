@@ -172,6 +172,35 @@ pub struct PhaseDiagram {
     pub ys: Vec<ParamValue>,
     /// cells by (x index, y index)
     pub cells: BTreeMap<(usize, usize), Cell>,
+    /// axis labels: symbol, unit and key of each parameter ([`axis_label`])
+    pub x_label: String,
+    pub y_label: Option<String>,
+    /// size, resolution and title of the picture
+    pub frame: Frame,
+}
+
+/// How a diagram is framed: its size, the PNG's resolution and its title.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// picture size in CSS pixels (None: from the grid, the title and the legend)
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    /// PNG resolution in dots per inch: 96 draws one pixel per CSS pixel, 192 twice as many
+    /// each way (SVG is vector: it has none)
+    pub dpi: f64,
+    /// title lines, each wrapped to the width at ", " ([`title`])
+    pub title: Vec<String>,
+}
+
+impl Default for Frame {
+    fn default() -> Self {
+        Frame {
+            width: None,
+            height: None,
+            dpi: 96.0,
+            title: Vec::new(),
+        }
+    }
 }
 
 /// Parameters that take more than one value over the jobs (the ones worth plotting). Derived
@@ -192,6 +221,44 @@ pub fn swept_in(sweep: &super::Sweep) -> Vec<&'static str> {
         })
         .map(|d| d.name)
         .collect()
+}
+
+/// The axes of a diagram: `x` and `y` as asked, else the first two swept parameters (only `x`
+/// asked: a strip), never `exclude` (the curve axis of a minimum diagram). An axis the sweep
+/// does not vary is refused, as is a sweep that varies nothing when no `x` is asked.
+pub fn choose_axes(
+    sweep: &super::Sweep,
+    x: Option<&str>,
+    y: Option<&str>,
+    exclude: Option<&str>,
+) -> Result<(String, Option<String>), String> {
+    let swept: Vec<&str> = swept_in(sweep)
+        .into_iter()
+        .filter(|s| Some(*s) != exclude)
+        .collect();
+    let y = match (x, y) {
+        (_, Some(y)) => Some(y.to_string()),
+        (Some(_), None) => None,
+        (None, None) => swept.get(1).map(|s| s.to_string()),
+    };
+    let x = match x.or_else(|| swept.first().copied()) {
+        Some(x) => x.to_string(),
+        None => return Err("nothing is swept: give --x".into()),
+    };
+    for axis in std::iter::once(x.as_str()).chain(y.as_deref()) {
+        if sweep.engine().param(axis).is_some() && !swept.contains(&axis) {
+            return Err(format!(
+                "`{axis}` does not vary in this sweep (one value for every job): a diagram over it \
+                 would merge different points; swept: {}",
+                if swept.is_empty() {
+                    "nothing".to_string()
+                } else {
+                    swept.join(", ")
+                }
+            ));
+        }
+    }
+    Ok((x, y))
 }
 
 /// A job's values of the given parameters, as "L/W=3 W/d=15" (symbols of the declaration).
@@ -295,6 +362,9 @@ impl PhaseDiagram {
             xs,
             ys,
             cells,
+            x_label: axis_label(engine, x),
+            y_label: y.map(|y| axis_label(engine, y)),
+            frame: Frame::default(),
         })
     }
 
@@ -341,152 +411,390 @@ impl PhaseDiagram {
         out
     }
 
-    /// Write the diagram as SVG.
+    /// Write the diagram as SVG (at its size in CSS pixels; vector, so the resolution does
+    /// not apply).
     pub fn write_svg(&self, path: &Path) -> anyhow::Result<()> {
-        crate::figure::save_svg(path, self.size(), |root| self.draw(root))
+        crate::figure::save_svg(path, self.size(), |root| self.draw(root, 1.0))
     }
 
-    /// Write the diagram as PNG (RGB, 8 bit).
+    /// Write the diagram as PNG (RGB, 8 bit) at the frame's resolution.
     pub fn write_png(&self, path: &Path) -> anyhow::Result<()> {
-        crate::figure::save_png(path, self.size(), |root| self.draw(root))
+        let bytes = self
+            .png()
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        crate::sweep::write_atomic(path, &bytes)?;
+        Ok(())
     }
 
-    fn size(&self) -> (u32, u32) {
-        let w = 260 + 110 * self.xs.len() as u32;
-        let h = 170 + 90 * self.ys.len() as u32;
-        (w.max(560), h.max(300))
+    /// The diagram as PNG bytes at the frame's resolution.
+    pub fn png(&self) -> anyhow::Result<Vec<u8>> {
+        let scale = self.frame.dpi / 96.0;
+        let (w, h) = self.size();
+        let pixels = (
+            (w as f64 * scale).round() as u32,
+            (h as f64 * scale).round() as u32,
+        );
+        crate::figure::render_png(pixels, |root| self.draw(root, scale))
+    }
+
+    /// The picture's size in CSS pixels: the frame's, or from the grid, the title and the
+    /// legend.
+    pub fn size(&self) -> (u32, u32) {
+        let w = self.frame.width.unwrap_or_else(|| {
+            (LEFT + LEGEND_WIDTH + 20 + 110 * self.xs.len() as i32).max(700) as u32
+        });
+        let h = self.frame.height.unwrap_or_else(|| {
+            let legend = 24 * self.legend().len() as i32 + 20;
+            let plot = (90 * self.ys.len() as i32).max(legend).max(160);
+            (self.top(w) + plot + BOTTOM) as u32
+        });
+        (w, h)
+    }
+
+    /// Height above the plot (title lines), in CSS pixels.
+    fn top(&self, width: u32) -> i32 {
+        20 + 20 * self.title_lines(width).len() as i32
+    }
+
+    /// The title wrapped to the width (at ", " where it can).
+    fn title_lines(&self, width: u32) -> Vec<String> {
+        let chars = ((width as f64 - 20.0) / TITLE_CHAR_WIDTH).max(20.0) as usize;
+        self.frame
+            .title
+            .iter()
+            .flat_map(|line| wrap(line, chars))
+            .collect()
+    }
+
+    /// What the legend explains, in order: each marker shown, then the numbers and marks
+    /// drawn beside them.
+    fn legend(&self) -> Vec<Legend> {
+        let verdicts: Vec<Option<CellVerdict>> = self.cells.values().map(Cell::verdict).collect();
+        let mut labels: Vec<String> = verdicts.iter().flatten().map(|v| v.label.clone()).collect();
+        labels.sort();
+        labels.dedup();
+        let mut out: Vec<Legend> = labels.into_iter().map(Legend::Marker).collect();
+        if verdicts.iter().flatten().any(|v| v.humps > 0) {
+            out.push(Legend::Humps);
+        }
+        if verdicts
+            .iter()
+            .flatten()
+            .any(|v| v.probability.is_finite() && v.label != "mixed")
+        {
+            out.push(Legend::Probability);
+        }
+        if verdicts.iter().any(Option::is_none) {
+            out.push(Legend::NotDone);
+        }
+        if verdicts.iter().flatten().any(|v| v.guard_flagged) {
+            out.push(Legend::Guard);
+        }
+        out
     }
 
     fn draw<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
+        scale: f64,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
         root.fill(&WHITE)?;
-        let (w, h) = root.dim_in_pixel();
-        let (left, right, top, bottom) = (100i32, 170i32, 30i32, 70i32);
-        let plot_w = w as i32 - left - right;
-        let plot_h = h as i32 - top - bottom;
+        // layout in CSS pixels, drawn at `scale` device pixels each
+        let u = |v: i32| (v as f64 * scale).round() as i32;
+        let (w, h) = self.size();
+        let title = self.title_lines(w);
+        let top = self.top(w);
+        let plot_w = (w as i32 - LEFT - LEGEND_WIDTH).max(40);
+        let plot_h = (h as i32 - top - BOTTOM).max(40);
         let nx = self.xs.len().max(1) as i32;
         let ny = self.ys.len().max(1) as i32;
-        let px = |xi: usize| left + (2 * xi as i32 + 1) * plot_w / (2 * nx);
+        let px = |xi: usize| LEFT + (2 * xi as i32 + 1) * plot_w / (2 * nx);
         let py = |yi: usize| top + plot_h - (2 * yi as i32 + 1) * plot_h / (2 * ny);
-        let font = ("sans-serif", 15).into_font();
-        let small = ("sans-serif", 13).into_font();
+        let font = |size: f64| ("sans-serif", size * scale).into_font();
+        let centred =
+            |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
+        for (i, line) in title.iter().enumerate() {
+            root.draw(&Text::new(
+                line.clone(),
+                (u(10), u(10 + 20 * i as i32)),
+                font(if i == 0 { 15.0 } else { 13.0 }),
+            ))?;
+        }
         root.draw(&Rectangle::new(
-            [(left, top), (left + plot_w, top + plot_h)],
-            BLACK.stroke_width(1),
+            [(u(LEFT), u(top)), (u(LEFT + plot_w), u(top + plot_h))],
+            BLACK.stroke_width(scale.round().max(1.0) as u32),
         ))?;
         for (xi, v) in self.xs.iter().enumerate() {
             root.draw(&PathElement::new(
-                vec![(px(xi), top + plot_h), (px(xi), top + plot_h + 5)],
+                vec![
+                    (u(px(xi)), u(top + plot_h)),
+                    (u(px(xi)), u(top + plot_h + 5)),
+                ],
                 BLACK,
             ))?;
             root.draw(&Text::new(
                 fmt_value(v),
-                (px(xi) - 12, top + plot_h + 10),
-                small.clone(),
+                (u(px(xi)), u(top + plot_h + 9)),
+                centred(13.0, VPos::Top),
             ))?;
         }
         root.draw(&Text::new(
-            self.x.clone(),
-            (left + plot_w / 2 - 60, top + plot_h + 38),
-            font.clone(),
+            self.x_label.clone(),
+            (u(LEFT + plot_w / 2), u(top + plot_h + 34)),
+            centred(15.0, VPos::Top),
         ))?;
-        if let Some(y) = &self.y {
+        if let Some(y_label) = &self.y_label {
             for (yi, v) in self.ys.iter().enumerate() {
                 root.draw(&PathElement::new(
-                    vec![(left - 5, py(yi)), (left, py(yi))],
+                    vec![(u(LEFT - 5), u(py(yi))), (u(LEFT), u(py(yi)))],
                     BLACK,
                 ))?;
                 root.draw(&Text::new(
                     fmt_value(v),
-                    (left - 45, py(yi) - 3),
-                    small.clone(),
+                    (u(LEFT - 8), u(py(yi))),
+                    TextStyle::from(font(13.0)).pos(Pos::new(HPos::Right, VPos::Center)),
                 ))?;
             }
             root.draw(&Text::new(
-                y.clone(),
-                (8, top + plot_h / 2),
-                font.clone().transform(FontTransform::Rotate270),
+                y_label.clone(),
+                (u(12), u(top + plot_h / 2)),
+                TextStyle::from(font(15.0).transform(FontTransform::Rotate270))
+                    .pos(Pos::new(HPos::Center, VPos::Top)),
             ))?;
         }
-        let mut legend: Vec<String> = Vec::new();
-        let mut flagged = false;
+        let red = RGBColor(214, 39, 40);
         for (&(xi, yi), cell) in &self.cells {
-            let (x, y) = (px(xi), py(yi));
+            let (x, y) = (u(px(xi)), u(py(yi)));
             match cell.verdict() {
                 Some(v) => {
-                    draw_marker(root, &v.label, (x, y), 11)?;
+                    draw_marker(root, &v.label, (x, y), u(11))?;
                     if v.humps > 0 {
                         root.draw(&Text::new(
                             format!("{}", v.humps),
-                            (x + 14, y - 20),
-                            font.clone(),
+                            (x + u(14), y - u(20)),
+                            font(15.0),
                         ))?;
                     }
-                    if v.probability.is_finite() {
-                        // the label's probability, under the marker
+                    if v.probability.is_finite() && v.label != "mixed" {
                         root.draw(&Text::new(
                             format!("{:.2}", v.probability),
-                            (x - 14, y + 14),
-                            small.clone(),
+                            (x, y + u(15)),
+                            centred(13.0, VPos::Top),
                         ))?;
                     }
                     if v.guard_flagged {
-                        root.draw(&Circle::new(
-                            (x, y),
-                            16,
-                            RGBColor(214, 39, 40).stroke_width(2),
-                        ))?;
-                        flagged = true;
-                    }
-                    if !legend.contains(&v.label) {
-                        legend.push(v.label);
+                        root.draw(&Circle::new((x, y), u(16), red.stroke_width(u(2) as u32)))?;
                     }
                 }
                 None => {
-                    root.draw(&Circle::new((x, y), 4, RGBColor(180, 180, 180).filled()))?;
+                    root.draw(&Circle::new((x, y), u(4), GREY_DOT.filled()))?;
                 }
             }
         }
-        if flagged {
-            legend.push("collapse guard beyond validity".into());
-        }
-        legend.sort();
-        let lx = left + plot_w + 20;
-        for (i, label) in legend.iter().enumerate() {
-            let ly = top + 12 + 26 * i as i32;
-            draw_marker(root, label, (lx + 8, ly), 8)?;
-            root.draw(&Text::new(label.clone(), (lx + 24, ly - 8), small.clone()))?;
+        let lx = LEFT + plot_w + 20;
+        for (i, entry) in self.legend().iter().enumerate() {
+            let ly = top + 12 + 24 * i as i32;
+            let at = (u(lx + 8), u(ly));
+            let text = match entry {
+                Legend::Marker(label) => {
+                    draw_marker(root, label, at, u(8))?;
+                    label.clone()
+                }
+                Legend::Humps => {
+                    root.draw(&Text::new("2", (at.0, at.1), centred(15.0, VPos::Center)))?;
+                    "humps of the S-wave".into()
+                }
+                Legend::Probability => {
+                    root.draw(&Text::new("0.9", (at.0, at.1), centred(12.0, VPos::Center)))?;
+                    "share of snapshots with the label".into()
+                }
+                Legend::NotDone => {
+                    root.draw(&Circle::new(at, u(4), GREY_DOT.filled()))?;
+                    "no job done yet".into()
+                }
+                Legend::Guard => {
+                    root.draw(&Circle::new(at, u(9), red.stroke_width(u(2) as u32)))?;
+                    "collapse guard beyond validity".into()
+                }
+            };
+            root.draw(&Text::new(
+                text,
+                (u(lx + 24), u(ly)),
+                TextStyle::from(font(12.0)).pos(Pos::new(HPos::Left, VPos::Center)),
+            ))?;
         }
         Ok(())
     }
 }
 
-/// The marker of a structure label (shape and colour), thesis-like.
-fn draw_marker<DB: DrawingBackend>(
+/// Layout of a diagram in CSS pixels: room left of the plot (y ticks and label), below it (x
+/// ticks and label), and for the legend right of it.
+const LEFT: i32 = 110;
+const BOTTOM: i32 = 70;
+const LEGEND_WIDTH: i32 = 290;
+/// Advance of one character of the 15 px title font (DejaVu Sans Mono as plotters draws it).
+const TITLE_CHAR_WIDTH: f64 = 7.8;
+/// The dot of a cell without a done job.
+const GREY_DOT: RGBColor = RGBColor(180, 180, 180);
+
+/// One entry of a diagram's legend.
+#[derive(Clone, Debug, PartialEq)]
+enum Legend {
+    /// the marker of this label
+    Marker(String),
+    /// the number beside S-wave markers
+    Humps,
+    /// the number under a marker
+    Probability,
+    /// the grey dot of a cell without a done job
+    NotDone,
+    /// the red ring of a flagged collapse guard
+    Guard,
+}
+
+/// Split `text` into lines of at most `chars` characters, at ", " where possible.
+fn wrap(text: &str, chars: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for (i, part) in text.split(", ").enumerate() {
+        let piece = if i == 0 {
+            part.to_string()
+        } else {
+            format!(", {part}")
+        };
+        if !line.is_empty() && line.chars().count() + piece.chars().count() > chars {
+            lines.push(line.trim_end_matches(',').to_string());
+            line = piece.trim_start_matches(", ").to_string();
+        } else {
+            line.push_str(&piece);
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// The axis label of a parameter: its symbol, unit (when it has one) and key, e.g.
+/// "L/W (length_over_width)", "t_c [sqrt(d/g)] (tc)".
+pub fn axis_label(engine: &EngineDef, name: &str) -> String {
+    match engine.param(name) {
+        Some(d) if d.symbol != "-" && !d.symbol.is_empty() => match d.unit {
+            "1" | "-" | "" => format!("{} ({name})", d.symbol),
+            unit => format!("{} [{unit}] ({name})", d.symbol),
+        },
+        _ => name.to_string(),
+    }
+}
+
+/// The title of a diagram of `sweep` over `axes`: the sweep, its engine, jobs and run length;
+/// the parameters held fixed (given in the sweep, linked, or away from their defaults), and
+/// those that vary without being an axis (their jobs share cells).
+pub fn title(sweep: &super::Sweep, axes: &[&str]) -> Vec<String> {
+    let Some(engine) = super::spec::engine_of(&sweep.spec) else {
+        return Vec::new();
+    };
+    let run = &sweep.spec.run;
+    let seeds = &sweep.spec.seeds;
+    let mut first = format!(
+        "{} ({}): {} jobs, {} {} per job, a snapshot every {}",
+        sweep.name,
+        engine.name,
+        sweep.plan.len(),
+        run.length(),
+        run.clock().key().replace('_', " "),
+        run.snapshot_interval
+    );
+    if let Some(u) = &run.until_steady {
+        first.push_str(&format!(", until steady over {}", u.window));
+    }
+    if seeds.len() > 1 {
+        first.push_str(&format!(
+            ", seeds {}",
+            seeds
+                .iter()
+                .map(u64::to_string)
+                .collect::<Vec<_>>()
+                .join(" ")
+        ));
+    }
+    let mut fixed: Vec<String> = Vec::new();
+    let mut varying: Vec<&str> = Vec::new();
+    let linked = |name: &str| sweep.spec.linked.iter().any(|l| l.param == name);
+    for d in engine.params {
+        if axes.contains(&d.name) {
+            continue;
+        }
+        if d.default == ParamDefault::Derived && !sweep.spec.axes.0.contains_key(d.name) {
+            // derived from others (EDMD: phi from N and the box): as given, if given
+            if let Some(v) = sweep.spec.fixed.0.get(d.name) {
+                fixed.push(format!("{} = {}", d.symbol, fmt_value(v)));
+            }
+            continue;
+        }
+        let values = distinct(sweep.plan.iter().map(|j| &j.params), d.name);
+        match values.as_slice() {
+            [v] => {
+                let given = sweep.spec.fixed.0.contains_key(d.name)
+                    || linked(d.name)
+                    || d.default == ParamDefault::Required;
+                let away = d.default.value().is_some_and(|dv| dv != *v);
+                if given || away {
+                    fixed.push(format!("{} = {}", d.symbol, fmt_value(v)));
+                }
+            }
+            [] => {}
+            _ => varying.push(d.symbol),
+        }
+    }
+    let mut lines = vec![first];
+    if !fixed.is_empty() {
+        lines.push(format!("fixed: {}", fixed.join(", ")));
+    }
+    if !varying.is_empty() {
+        lines.push(format!(
+            "also varying (merged in the cells): {}",
+            varying.join(", ")
+        ));
+    }
+    lines
+}
+
+/// The colour of a label's marker (the fill of filled markers, the line of open ones); the
+/// per-job figures colour labels the same way.
+pub fn marker_colour(label: &str) -> RGBColor {
+    match label {
+        "plug" | "steady" => RGBColor(31, 119, 180),
+        "s-wave" | "density waves" | "minimum" => RGBColor(214, 39, 40),
+        "slug" | "s-wave+slug" => RGBColor(44, 160, 44),
+        "wavy-slug" | "mixed" => RGBColor(255, 127, 14),
+        "homogeneous" | "not-steady" | "no waves" | "monotonic" => RGBColor(120, 120, 120),
+        _ => RGBColor(148, 103, 189),
+    }
+}
+
+/// The marker of a structure label (shape and colour), thesis-like, of radius `r` pixels.
+pub(crate) fn draw_marker<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     label: &str,
     (x, y): (i32, i32),
     r: i32,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    let blue = RGBColor(31, 119, 180);
-    let red = RGBColor(214, 39, 40);
-    let green = RGBColor(44, 160, 44);
-    let orange = RGBColor(255, 127, 14);
-    let purple = RGBColor(148, 103, 189);
-    let grey = RGBColor(120, 120, 120);
+    let c = marker_colour(label);
+    // line width of open markers: 2 px at the diagram's radius of 11
+    let line = |k: f64| ((r as f64 * k / 5.5).round() as u32).max(1);
     match label {
-        "homogeneous" => root.draw(&Circle::new((x, y), r, grey.stroke_width(2))),
-        "plug" => root.draw(&Rectangle::new(
+        "homogeneous" | "no waves" => root.draw(&Circle::new((x, y), r, c.stroke_width(line(1.0)))),
+        "plug" | "density waves" => root.draw(&Rectangle::new(
             [(x - r, y - r), (x + r, y + r)],
-            blue.filled(),
+            c.filled(),
         )),
         "s-wave" => root.draw(&Polygon::new(
             vec![(x, y - r - 2), (x - r - 1, y + r), (x + r + 1, y + r)],
-            red.filled(),
+            c.filled(),
         )),
-        "slug" => root.draw(&Circle::new((x, y), r, green.filled())),
+        "slug" | "steady" => root.draw(&Circle::new((x, y), r, c.filled())),
         "wavy-slug" => root.draw(&Polygon::new(
             vec![
                 (x, y - r - 2),
@@ -494,38 +802,31 @@ fn draw_marker<DB: DrawingBackend>(
                 (x, y + r + 2),
                 (x - r - 2, y),
             ],
-            orange.filled(),
+            c.filled(),
         )),
         "s-wave+slug" => {
-            root.draw(&Circle::new((x, y), r, green.filled()))?;
+            root.draw(&Circle::new((x, y), r, c.filled()))?;
             root.draw(&Polygon::new(
                 vec![
                     (x, y - r / 2 - 2),
                     (x - r / 2 - 1, y + r / 2),
                     (x + r / 2 + 1, y + r / 2),
                 ],
-                red.filled(),
+                marker_colour("s-wave").filled(),
             ))
         }
-        "not-steady" => root.draw(&Cross::new((x, y), r, grey.stroke_width(2))),
-        "mixed" => root.draw(&Circle::new((x, y), r, orange.stroke_width(3))),
-        // lattice gas (Peng & Herrmann 1994)
-        "density waves" => root.draw(&Rectangle::new(
-            [(x - r, y - r), (x + r, y + r)],
-            red.filled(),
-        )),
-        "no waves" => root.draw(&Circle::new((x, y), r, grey.stroke_width(2))),
-        // DSMC: a valid steady run; where a curve has an interior minimum, or none
-        "steady" => root.draw(&Circle::new((x, y), r, blue.filled())),
+        "not-steady" => root.draw(&Cross::new((x, y), r, c.stroke_width(line(1.0)))),
+        "mixed" => root.draw(&Circle::new((x, y), r, c.stroke_width(line(1.5)))),
+        // DSMC minimum diagram: where a curve has an interior minimum, or none
         "minimum" => root.draw(&Polygon::new(
             vec![(x - r - 1, y - r), (x + r + 1, y - r), (x, y + r + 2)],
-            red.filled(),
+            c.filled(),
         )),
         "monotonic" => root.draw(&Rectangle::new(
             [(x - r, y - r), (x + r, y + r)],
-            grey.stroke_width(2),
+            c.stroke_width(line(1.0)),
         )),
-        _ => root.draw(&Circle::new((x, y), r, purple.stroke_width(2))),
+        _ => root.draw(&Circle::new((x, y), r, c.stroke_width(line(1.0)))),
     }
 }
 

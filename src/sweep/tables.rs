@@ -77,6 +77,18 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
     let jobs = collect(sweep, dirs);
     let engine = super::spec::engine_of(&sweep.spec).expect("a loaded sweep names an engine");
     std::fs::create_dir_all(&dirs.tables)?;
+    // one gather at a time per tables directory (two runners that end together both gather):
+    // a gather removes the generations it did not write, which must not be another's set in
+    // the making. The lock dies with its process; where the file system has no locks, gathers
+    // are not serialised (as claims under --unsafe-no-locks).
+    let lock_path = dirs.tables.join(GATHER_LOCK);
+    let lock = std::fs::OpenOptions::new()
+        .create(true)
+        .write(true)
+        .truncate(false)
+        .open(&lock_path)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", lock_path.display()))?;
+    let _ = lock.lock();
     // the set is written into a new generation directory, then switched to with one atomic
     // rename of the `tables` link: a kill leaves either the old set or the new one
     let generation = format!(
@@ -115,6 +127,9 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
         done: jobs.iter().filter(|j| j.result.is_some()).count(),
     })
 }
+
+/// The lock file that serialises gathers into one tables directory.
+pub const GATHER_LOCK: &str = ".gather.lock";
 
 /// The name of the link to the current table set inside a tables directory; `<name>.parquet`
 /// are links into it.

@@ -11,7 +11,9 @@
 //!   checkpoint I/O stays linear in the run length);
 //! - `result.ron`: the job's analysis and counters; its presence means done;
 //! - `failed.txt`: the error of a failed job (removed by `--retry-failed`);
-//! - `log.txt`: one line per start ("start" or "resume"), end ("done") or failure, appended.
+//! - `log.txt`: one line per start ("start" or "resume"), end ("done") or failure, appended;
+//! - `figures/`: the job's figures (`<name>.png` and `.svg`, see `crate::report::job_figures`),
+//!   written when it finishes (and by `granflow report` where they are missing).
 
 use super::grid::PlannedJob;
 use super::job::{JobId, JobParams};
@@ -26,7 +28,7 @@ mod result;
 
 pub use checkpoint::{JobCheckpoint, checkpoint_progress, read_checkpoint, write_checkpoint};
 pub use claim::{Claim, NotClaimed, allow_claims_without_locks, check_locking, holder, try_claim};
-pub use records::{RecordLog, load_records};
+pub use records::{RecordLog, load_records, records_so_far};
 pub use result::{JobResult, read_result, write_result};
 use std::fs::OpenOptions;
 use std::io::Write;
@@ -39,6 +41,7 @@ pub const RESULT_FILE: &str = "result.ron";
 pub const FAILED_FILE: &str = "failed.txt";
 pub const LOG_FILE: &str = "log.txt";
 pub const RECORDS_FILE: &str = "records.bin";
+pub const FIGURES_DIR: &str = "figures";
 
 /// The state of a job as its directory tells it.
 #[derive(Clone, Debug, PartialEq)]

@@ -41,30 +41,9 @@ pub fn load_records(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<Vec<Record
             cp.records_bytes
         )
     })?;
-    let mut records = Vec::with_capacity(cp.records as usize);
-    let mut at = 0usize;
-    while at < bytes.len() {
-        anyhow::ensure!(
-            at + FRAME_HEADER <= bytes.len(),
-            "{}: truncated frame at byte {at}",
-            path.display()
-        );
-        let len = u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes")) as usize;
-        let crc = u32::from_le_bytes(bytes[at + 4..at + 8].try_into().expect("4 bytes"));
-        let start = at + FRAME_HEADER;
-        anyhow::ensure!(
-            start + len <= bytes.len(),
-            "{}: frame at byte {at} runs past the checkpointed length",
-            path.display()
-        );
-        let payload = &bytes[start..start + len];
-        anyhow::ensure!(
-            crc32fast::hash(payload) == crc,
-            "{}: checksum mismatch in the frame at byte {at}",
-            path.display()
-        );
-        records.push(postcard::from_bytes(payload)?);
-        at = start + len;
+    let (records, end) = parse_frames(&bytes);
+    if let Some(why) = end {
+        anyhow::bail!("{}: {why}", path.display());
     }
     anyhow::ensure!(
         records.len() as u64 == cp.records,
@@ -74,6 +53,57 @@ pub fn load_records(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<Vec<Record
         cp.records
     );
     Ok(records)
+}
+
+/// The frames of `bytes` in order, up to the first that is incomplete or damaged (and why it
+/// stopped there, None when every byte was read).
+fn parse_frames(bytes: &[u8]) -> (Vec<Record>, Option<String>) {
+    let mut records = Vec::new();
+    let mut at = 0usize;
+    while at < bytes.len() {
+        if at + FRAME_HEADER > bytes.len() {
+            return (records, Some(format!("truncated frame at byte {at}")));
+        }
+        let len = u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes")) as usize;
+        let crc = u32::from_le_bytes(bytes[at + 4..at + 8].try_into().expect("4 bytes"));
+        let start = at + FRAME_HEADER;
+        if start + len > bytes.len() {
+            return (
+                records,
+                Some(format!(
+                    "frame at byte {at} runs past the checkpointed length"
+                )),
+            );
+        }
+        let payload = &bytes[start..start + len];
+        if crc32fast::hash(payload) != crc {
+            return (
+                records,
+                Some(format!("checksum mismatch in the frame at byte {at}")),
+            );
+        }
+        match postcard::from_bytes(payload) {
+            Ok(r) => records.push(r),
+            Err(e) => return (records, Some(format!("frame at byte {at}: {e}"))),
+        }
+        at = start + len;
+    }
+    (records, None)
+}
+
+/// The records a job has written so far, for a look at a running, partial or done job: every
+/// complete frame of its record log (a frame being written, or one a killed run left half
+/// written, ends the list), or the records of a format-1 checkpoint. Nothing is changed;
+/// a job without records gives an empty list.
+pub fn records_so_far(dir: &Path) -> anyhow::Result<Vec<Record>> {
+    let path = dir.join(RECORDS_FILE);
+    match std::fs::read(&path) {
+        Ok(bytes) => Ok(parse_frames(&bytes).0),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(super::read_checkpoint(dir)?
+            .and_then(|cp| cp.legacy_records)
+            .unwrap_or_default()),
+        Err(e) => Err(anyhow::anyhow!("{}: {e}", path.display())),
+    }
 }
 
 /// The record log of a running job, open for appending.

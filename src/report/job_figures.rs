@@ -1,0 +1,864 @@
+//! Per-job figures, drawn with plotters from a job's analysis and its records (rendered and
+//! written by [`crate::figure`]; stored as `jobs/<id>/figures/<name>.png` and `.svg`):
+//! - structure analysis (EDMD): `energy` (the kinetic-energy trace with the steady window),
+//!   `profiles` (phi, U_x, omega_z, T, theta across the channel), `spectra` (xy, xz, yz
+//!   power-spectrum maps with the modes that stand above shot noise outlined), `density` (phi
+//!   of the last snapshot in the three planes, as thesis Figs. 5.2-5.24) and `labels` (the label
+//!   of every snapshot along the run);
+//! - lattice gas: `spacetime` (the seed's Fig. 1 picture; PNG only, a raster of up to 10^5
+//!   cells);
+//! - rarefied gas (DSMC): `profiles` (density, velocity, temperature with their errors).
+//!
+//! A running job's figures are drawn the same way from the records it has written so far.
+
+use crate::analysis::classify::significant_plane_modes;
+use crate::analysis::lattice::LatticeAnalysis;
+use crate::analysis::rarefied::RarefiedAnalysis;
+use crate::analysis::{Analysis, JobAnalysis, Record, SnapshotRecord, plane_fields};
+use crate::sweep::phase::marker_colour;
+use crate::sweep::store::FIGURES_DIR;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// One figure of a job.
+pub struct JobFigure {
+    /// file stem: `energy`, `profiles`, `spectra`, `density`, `labels` or `spacetime`
+    pub name: &'static str,
+    /// what it shows, in one or two sentences (with the numbers a reader needs)
+    pub caption: String,
+    plot: Plot,
+}
+
+/// What a figure draws.
+enum Plot {
+    /// the energies per particle over collisions per particle, the analysis window shaded
+    Trace {
+        points: Vec<(f64, f64, f64)>,
+        window: Option<(f64, f64)>,
+        steady: bool,
+    },
+    /// panels of curves with optional error bars
+    Curves(Vec<CurvePanel>),
+    /// panels of cell maps on one colour scale
+    Maps {
+        panels: Vec<MapPanel>,
+        /// what the colour shows
+        quantity: String,
+        range: (f64, f64),
+    },
+    /// a coloured strip, one cell per snapshot
+    Labels {
+        snapshots: Vec<(f64, String)>,
+        window: Option<(f64, f64)>,
+        steady: bool,
+    },
+    Spacetime(Box<LatticeAnalysis>),
+}
+
+/// A panel of curves: points (x, y, error; NaN error: none).
+struct CurvePanel {
+    title: String,
+    x_label: String,
+    points: Vec<(f64, f64, f64)>,
+}
+
+/// A panel of cells: `values[i * ny + j]` covers [x_edges[i], x_edges[i+1]] x
+/// [y_edges[j], y_edges[j+1]]; NaN cells are left blank; `marks` are outlined.
+struct MapPanel {
+    title: String,
+    x_label: String,
+    y_label: String,
+    x_edges: Vec<f64>,
+    y_edges: Vec<f64>,
+    values: Vec<f64>,
+    marks: Vec<(usize, usize)>,
+    /// integer wave numbers at the cell centres (spectra) rather than lengths
+    wave_numbers: bool,
+}
+
+type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+impl JobFigure {
+    /// Size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        match &self.plot {
+            Plot::Trace { .. } => (760, 420),
+            Plot::Curves(panels) => (960, 260 * panels.len().div_ceil(3).max(1) as u32),
+            Plot::Maps { .. } => (1040, 380),
+            Plot::Labels { .. } => (900, 210),
+            Plot::Spacetime(a) => crate::analysis::lattice::spacetime_size(a),
+        }
+    }
+
+    /// The figure as PNG bytes.
+    pub fn png(&self) -> anyhow::Result<Vec<u8>> {
+        crate::figure::render_png(self.size(), |root| self.draw(root))
+    }
+
+    /// Whether the figure is a picture of many cells better kept as a raster only (the
+    /// lattice gas' space-time picture: up to 10^5 cells, megabytes as SVG).
+    pub fn raster_only(&self) -> bool {
+        matches!(self.plot, Plot::Spacetime(_))
+    }
+
+    /// The figure as SVG text.
+    pub fn svg(&self) -> anyhow::Result<String> {
+        crate::figure::render_svg(self.size(), |root| self.draw(root))
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+        root.fill(&WHITE)?;
+        match &self.plot {
+            Plot::Trace {
+                points,
+                window,
+                steady,
+            } => draw_trace(root, points, *window, *steady),
+            Plot::Curves(panels) => {
+                let rows = panels.len().div_ceil(3).max(1);
+                let areas = root.split_evenly((rows, 3));
+                for (panel, area) in panels.iter().zip(&areas) {
+                    draw_curves(area, panel)?;
+                }
+                Ok(())
+            }
+            Plot::Maps {
+                panels,
+                quantity,
+                range,
+            } => draw_maps(root, panels, quantity, *range),
+            Plot::Labels {
+                snapshots,
+                window,
+                steady,
+            } => draw_labels(root, snapshots, *window, *steady),
+            Plot::Spacetime(a) => crate::analysis::lattice::draw_spacetime(a, root),
+        }
+    }
+}
+
+/// The figures of a job from its analysis and records (records of a running job: those so
+/// far). Figures whose data are missing (no records, no spectra) are left out.
+pub fn figures(analysis: &Analysis, records: &[Record]) -> Vec<JobFigure> {
+    match analysis {
+        Analysis::Structure(a) => {
+            let records: Vec<&SnapshotRecord> = records
+                .iter()
+                .filter_map(|r| match r {
+                    Record::Structure(r) => Some(r),
+                    _ => None,
+                })
+                .collect();
+            structure_figures(a, &records)
+        }
+        Analysis::Lattice(a) if !a.spacetime.is_empty() => vec![JobFigure {
+            name: "spacetime",
+            caption: format!(
+                "Particles per bin along the pipe (top to bottom, gravity down) over time (left \
+                 to right), as the seed's Fig. 1; label: {}.",
+                a.summary.label
+            ),
+            plot: Plot::Spacetime(Box::new(a.clone())),
+        }],
+        Analysis::Lattice(_) => Vec::new(),
+        Analysis::Rarefied(a) => rarefied_figures(a),
+    }
+}
+
+/// Write figures into the job directory's `figures/` as `<name>.png` and `<name>.svg` (PNG
+/// only for [`JobFigure::raster_only`] ones); the paths written.
+pub fn write(job_dir: &Path, figures: &[JobFigure]) -> anyhow::Result<Vec<PathBuf>> {
+    if figures.is_empty() {
+        return Ok(Vec::new());
+    }
+    let dir = job_dir.join(FIGURES_DIR);
+    std::fs::create_dir_all(&dir).map_err(|e| crate::sweep::fs_error::PathError::new(&dir, e))?;
+    let mut written = Vec::new();
+    for f in figures {
+        let png = dir.join(format!("{}.png", f.name));
+        crate::sweep::write_atomic(&png, &f.png()?)?;
+        written.push(png);
+        if !f.raster_only() {
+            let svg = dir.join(format!("{}.svg", f.name));
+            crate::sweep::write_atomic(&svg, f.svg()?.as_bytes())?;
+            written.push(svg);
+        }
+    }
+    Ok(written)
+}
+
+/// Whether every figure is on disk in the job directory (in each of its formats).
+pub fn all_written(job_dir: &Path, figures: &[JobFigure]) -> bool {
+    let dir = job_dir.join(FIGURES_DIR);
+    figures.iter().all(|f| {
+        let formats: &[&str] = if f.raster_only() {
+            &["png"]
+        } else {
+            &["png", "svg"]
+        };
+        formats
+            .iter()
+            .all(|ext| dir.join(format!("{}.{ext}", f.name)).exists())
+    })
+}
+
+fn structure_figures(a: &JobAnalysis, records: &[&SnapshotRecord]) -> Vec<JobFigure> {
+    let s = &a.summary;
+    let window = (s.window_start.is_finite() && s.window_end.is_finite())
+        .then_some((s.window_start, s.window_end));
+    let window_text = match window {
+        Some((w0, w1)) if s.steady => format!("steady window {w0} .. {w1} collisions per particle"),
+        Some((w0, w1)) => format!("not steady: the final third {w0} .. {w1} is used"),
+        None => "no window yet".into(),
+    };
+    let mut out = Vec::new();
+    if !a.energy.is_empty() {
+        out.push(JobFigure {
+            name: "energy",
+            caption: format!(
+                "Translational and rotational kinetic energy per particle over the run; shaded: \
+                 {window_text}."
+            ),
+            plot: Plot::Trace {
+                points: a
+                    .energy
+                    .iter()
+                    .map(|e| (e.collisions_per_particle, e.translational, e.rotational))
+                    .collect(),
+                window,
+                steady: s.steady,
+            },
+        });
+    }
+    if !a.profiles.is_empty() {
+        let width = records.last().map_or(f64::NAN, |r| r.box_extent[1]);
+        out.push(JobFigure {
+            name: "profiles",
+            caption: format!(
+                "Profiles across the channel (0 <= y <= W{}), averaged over the window ({window_text}); \
+                 slip velocity {:.3} sqrt(gd).",
+                if width.is_finite() {
+                    format!(" = {width}")
+                } else {
+                    String::new()
+                },
+                s.slip_velocity
+            ),
+            plot: Plot::Curves(
+                [
+                    ("phi", "phi(y)"),
+                    ("u_x", "U_x(y) / sqrt(gd)"),
+                    ("omega_z", "omega_z(y) / sqrt(g/d)"),
+                    ("T", "T(y) / (gd)"),
+                    ("theta", "theta(y) / (gd)"),
+                ]
+                .iter()
+                .map(|(q, title)| CurvePanel {
+                    title: (*title).into(),
+                    x_label: "y / d".into(),
+                    points: a
+                        .profiles
+                        .iter()
+                        .filter(|p| p.quantity == *q)
+                        .map(|p| (p.y, p.value, f64::NAN))
+                        .collect(),
+                })
+                .collect(),
+            ),
+        });
+    }
+    if let Some(f) = spectra_figure(a) {
+        out.push(f);
+    }
+    if let Some(f) = density_figure(records) {
+        out.push(f);
+    }
+    let labels =
+        crate::analysis::snapshot_labels(&records.iter().map(|r| (*r).clone()).collect::<Vec<_>>());
+    if !labels.is_empty() {
+        out.push(JobFigure {
+            name: "labels",
+            caption: format!(
+                "The structure label of every snapshot on its own ({} snapshots); bar below: \
+                 {window_text}; the job's label: {}.",
+                labels.len(),
+                crate::analysis::labels::label_key(&s.label, s.humps)
+            ),
+            plot: Plot::Labels {
+                snapshots: labels,
+                window,
+                steady: s.steady,
+            },
+        });
+    }
+    out
+}
+
+/// The xy, xz, yz maps of log10(power / noise) of the window-averaged spectra, with the modes
+/// above the peak test's threshold outlined.
+fn spectra_figure(a: &JobAnalysis) -> Option<JobFigure> {
+    let s = &a.summary;
+    let n = [s.grid_x, s.grid_y, s.grid_z].map(|k| k as usize);
+    let p0 = s.noise_level;
+    if a.spectra.is_empty() || n.contains(&0) || p0.is_nan() || p0 <= 0.0 {
+        return None;
+    }
+    let planes = [
+        ("xy", n[0], n[1], "k_x", "k_y"),
+        ("xz", n[0], n[2], "k_x", "k_z"),
+        ("yz", n[1], n[2], "k_y", "k_z"),
+    ];
+    let mut panels = Vec::new();
+    let mut significant = 0;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (plane, na, nb, xa, xb) in planes {
+        let (m1, m2) = crate::analysis::spectrum::folded_shape(na, nb);
+        let mut folded = vec![f64::NAN; m1 * m2];
+        for r in a.spectra.iter().filter(|r| r.plane == plane) {
+            let (k1, k2) = (r.k1 as usize, r.k2 as usize);
+            if k1 < m1 && k2 < m2 {
+                folded[k1 * m2 + k2] = r.power;
+            }
+        }
+        let values: Vec<f64> = (0..m1 * m2)
+            .map(|i| {
+                let (k1, k2) = (i / m2, i % m2);
+                let dims = crate::analysis::spectrum::multiplicity(k1, na)
+                    * crate::analysis::spectrum::multiplicity(k2, nb);
+                (folded[i] / (dims as f64 * p0)).log10()
+            })
+            .collect();
+        for v in values.iter().filter(|v| v.is_finite()) {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+        let known: Vec<f64> = folded
+            .iter()
+            .map(|p| if p.is_nan() { 0.0 } else { *p })
+            .collect();
+        let marks: Vec<(usize, usize)> = significant_plane_modes(&known, na, nb, p0)
+            .into_iter()
+            .map(|(k1, k2, _, _)| (k1, k2))
+            .collect();
+        significant += marks.len();
+        panels.push(MapPanel {
+            title: format!("{plane} ({na} x {nb} cells)"),
+            x_label: xa.into(),
+            y_label: xb.into(),
+            x_edges: (0..=m1).map(|k| k as f64 - 0.5).collect(),
+            y_edges: (0..=m2).map(|k| k as f64 - 0.5).collect(),
+            values,
+            marks,
+            wave_numbers: true,
+        });
+    }
+    if !lo.is_finite() {
+        return None;
+    }
+    Some(JobFigure {
+        name: "spectra",
+        caption: format!(
+            "Window-averaged power spectra of the density in the xy, xz and yz planes, folded onto \
+             non-negative wave numbers, as power over the shot noise of a random arrangement \
+             (log10); outlined: the {significant} modes above the 5-sigma peak threshold \
+             (false-alarm probability shared among the plane's modes). Dominant xy modes: {}.",
+            if s.dominant_modes.is_empty() {
+                "-"
+            } else {
+                &s.dominant_modes
+            }
+        ),
+        plot: Plot::Maps {
+            panels,
+            quantity: "log10 P/noise".into(),
+            range: (lo.min(0.0), hi.max(lo.min(0.0) + 1.0)),
+        },
+    })
+}
+
+/// The phi fields of the last record with fields in the xy, xz and yz planes (averages over
+/// the third axis), in physical coordinates.
+fn density_figure(records: &[&SnapshotRecord]) -> Option<JobFigure> {
+    let r = records.iter().rev().find(|r| {
+        let [n1, n2, n3] = r.grid.map(|k| k as usize);
+        n1 * n2 * n3 > 0
+            && r.grid_volume > 0.0
+            && r.counts_xy.len() == n1 * n2
+            && r.counts_xz.len() == n1 * n3
+            && r.counts_yz.len() == n2 * n3
+    })?;
+    let [n1, n2, n3] = r.grid.map(|k| k as usize);
+    let [l, w, h] = r.box_extent;
+    // the grid covers the region open to centres across the channel, [d/2, W - d/2]
+    let edges = |from: f64, to: f64, n: usize| -> Vec<f64> {
+        (0..=n)
+            .map(|k| from + (to - from) * k as f64 / n as f64)
+            .collect()
+    };
+    let (x, y, z) = (
+        edges(0.0, l, n1),
+        edges(0.5, w - 0.5, n2),
+        edges(0.0, h, n3),
+    );
+    let [xy, xz, yz] = plane_fields(r);
+    let hi = xy
+        .iter()
+        .chain(&xz)
+        .chain(&yz)
+        .copied()
+        .fold(0.0f64, f64::max);
+    let panel =
+        |title: &str, xl: &str, yl: &str, xe: &Vec<f64>, ye: &Vec<f64>, v: Vec<f64>| MapPanel {
+            title: title.into(),
+            x_label: xl.into(),
+            y_label: yl.into(),
+            x_edges: xe.clone(),
+            y_edges: ye.clone(),
+            values: v,
+            marks: Vec::new(),
+            wave_numbers: false,
+        };
+    Some(JobFigure {
+        name: "density",
+        caption: format!(
+            "Volume fraction of the last snapshot ({} collisions per particle) in the xy, xz and \
+             yz planes, each averaged over the third axis, on the {n1} x {n2} x {n3} grid \
+             (flow along x, walls at y = 0 and W, span z).",
+            r.collisions_per_particle
+        ),
+        plot: Plot::Maps {
+            panels: vec![
+                panel("xy (over z)", "x / d", "y / d", &x, &y, xy),
+                panel("xz (over y)", "x / d", "z / d", &x, &z, xz),
+                panel("yz (over x)", "y / d", "z / d", &y, &z, yz),
+            ],
+            quantity: "phi".into(),
+            range: (0.0, hi.max(1e-6)),
+        },
+    })
+}
+
+fn rarefied_figures(a: &RarefiedAnalysis) -> Vec<JobFigure> {
+    if a.profiles.is_empty() {
+        return Vec::new();
+    }
+    let panel =
+        |title: &str, f: &dyn Fn(&crate::analysis::rarefied::RarefiedProfileRow) -> (f64, f64)| {
+            CurvePanel {
+                title: title.into(),
+                x_label: "y / W".into(),
+                points: a
+                    .profiles
+                    .iter()
+                    .map(|p| {
+                        let (v, e) = f(p);
+                        (p.y, v, e)
+                    })
+                    .collect(),
+            }
+        };
+    vec![JobFigure {
+        name: "profiles",
+        caption: format!(
+            "Time-averaged profiles across the channel with their block-average standard errors \
+             ({}; window {} .. {} steps).",
+            if a.summary.steady {
+                "steady"
+            } else {
+                "not steady"
+            },
+            a.summary.window_start_step,
+            a.summary.window_end_step
+        ),
+        plot: Plot::Curves(vec![
+            panel("density rho / rho_avg", &|p| (p.density, p.density_error)),
+            panel("velocity u_x / u_c", &|p| (p.velocity, p.velocity_error)),
+            panel("temperature T / T_w", &|p| {
+                (p.temperature, p.temperature_error)
+            }),
+        ]),
+    }]
+}
+
+/// (lo, hi) of finite values, padded; `log` keeps only positive ones.
+fn span(values: impl Iterator<Item = f64>, log: bool) -> Option<(f64, f64)> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && (!log || *v > 0.0))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if !lo.is_finite() {
+        return None;
+    }
+    Some(if log {
+        (lo / 1.3, hi * 1.3)
+    } else {
+        let pad = 0.05 * (hi - lo).max(1e-9 * hi.abs().max(1.0));
+        (lo - pad, hi + pad)
+    })
+}
+
+/// The window's colour (shaded in the trace, a bar under the label strip): dark when steady.
+fn window_colour(steady: bool) -> RGBColor {
+    if steady {
+        RGBColor(60, 60, 60)
+    } else {
+        RGBColor(170, 170, 170)
+    }
+}
+
+/// A tick label: at most 4 significant digits, no trailing zeros.
+fn tick(v: &f64) -> String {
+    let v = *v;
+    // round-off about zero (e.g. -5.6e-17 on a symmetric axis) is zero
+    if v.abs() < 1e-10 || !v.is_finite() {
+        return "0".into();
+    }
+    if v.abs() >= 1e5 || v.abs() < 1e-3 {
+        return format!("{v:.1e}");
+    }
+    let digits = (3 - v.abs().log10().floor() as i32).clamp(0, 6) as usize;
+    let text = format!("{v:.digits$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
+fn draw_trace<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    points: &[(f64, f64, f64)],
+    window: Option<(f64, f64)>,
+    steady: bool,
+) -> DrawResult<DB> {
+    let (x0, x1) = span(points.iter().map(|p| p.0), false).unwrap_or((0.0, 1.0));
+    let log = points.iter().all(|p| p.1 > 0.0 && p.2 > 0.0);
+    let ys = || points.iter().flat_map(|p| [p.1, p.2]);
+    let (y0, y1) = span(ys(), log).unwrap_or((1.0, 10.0));
+    let translational = RGBColor(214, 39, 40);
+    let rotational = RGBColor(44, 160, 44);
+    let shade = window_colour(steady);
+    macro_rules! chart {
+        ($yr:expr) => {{
+            let mut chart = ChartBuilder::on(root)
+                .caption("kinetic energy per particle", ("sans-serif", 16))
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(70)
+                .build_cartesian_2d(x0..x1, $yr)?;
+            chart
+                .configure_mesh()
+                .x_desc("collisions per particle")
+                .y_desc("E / N  (m g d)")
+                .x_label_formatter(&tick)
+                .y_label_formatter(&tick)
+                .label_style(("sans-serif", 12))
+                .draw()?;
+            if let Some((w0, w1)) = window {
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(w0, y0), (w1, y1)],
+                        shade.mix(0.15).filled(),
+                    )))?
+                    .label(if steady {
+                        "steady window"
+                    } else {
+                        "window (not steady)"
+                    })
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x, y - 5), (x + 18, y + 5)], shade.mix(0.3).filled())
+                    });
+            }
+            for (name, colour, pick) in [
+                ("translational", translational, 0usize),
+                ("rotational", rotational, 1),
+            ] {
+                let line: Vec<(f64, f64)> = points
+                    .iter()
+                    .map(|p| (p.0, if pick == 0 { p.1 } else { p.2 }))
+                    .filter(|(_, v)| v.is_finite() && (!log || *v > 0.0))
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(line, colour.stroke_width(2)))?
+                    .label(name)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                    });
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::LowerRight)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 12))
+                .draw()?;
+        }};
+    }
+    if log {
+        chart!((y0..y1).log_scale())
+    } else {
+        chart!(y0..y1)
+    }
+    Ok(())
+}
+
+fn draw_curves<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &CurvePanel,
+) -> DrawResult<DB> {
+    let (x0, x1) = span(panel.points.iter().map(|p| p.0), false).unwrap_or((0.0, 1.0));
+    let with_errors = |p: &(f64, f64, f64)| {
+        let e = if p.2.is_finite() { p.2 } else { 0.0 };
+        [p.1 - e, p.1 + e]
+    };
+    let (y0, y1) = span(panel.points.iter().flat_map(with_errors), false).unwrap_or((0.0, 1.0));
+    let mut chart = ChartBuilder::on(area)
+        .caption(panel.title.clone(), ("sans-serif", 14))
+        .margin(8)
+        .x_label_area_size(34)
+        .y_label_area_size(62)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc(panel.x_label.clone())
+        .x_labels(6)
+        .y_labels(6)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .label_style(("sans-serif", 11))
+        .draw()?;
+    let colour = RGBColor(31, 119, 180);
+    let finite: Vec<(f64, f64, f64)> = panel
+        .points
+        .iter()
+        .copied()
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .collect();
+    chart.draw_series(LineSeries::new(
+        finite.iter().map(|p| (p.0, p.1)),
+        colour.stroke_width(2),
+    ))?;
+    for p in finite.iter().filter(|p| p.2.is_finite() && p.2 > 0.0) {
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(p.0, p.1 - p.2), (p.0, p.1 + p.2)],
+            colour.stroke_width(1),
+        )))?;
+    }
+    chart.draw_series(
+        finite
+            .iter()
+            .map(|p| Circle::new((p.0, p.1), 2, colour.filled())),
+    )?;
+    Ok(())
+}
+
+/// A perceptually ordered colour map (viridis, five stops, linear between them), t in [0, 1].
+pub fn colour_map(t: f64) -> RGBColor {
+    const STOPS: [(u8, u8, u8); 5] = [
+        (68, 1, 84),
+        (59, 82, 139),
+        (33, 145, 140),
+        (94, 201, 98),
+        (253, 231, 37),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f64;
+    let mix = |a: u8, b: u8| (a as f64 + f * (b as f64 - a as f64)).round() as u8;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+fn draw_maps<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    panels: &[MapPanel],
+    quantity: &str,
+    (lo, hi): (f64, f64),
+) -> DrawResult<DB> {
+    let (w, _) = root.dim_in_pixel();
+    let (maps, bar) = root.split_horizontally(w.saturating_sub(110));
+    let areas = maps.split_evenly((1, panels.len().max(1)));
+    let scale = |v: f64| (v - lo) / (hi - lo);
+    for (panel, area) in panels.iter().zip(&areas) {
+        let (x0, x1) = (panel.x_edges[0], *panel.x_edges.last().unwrap_or(&1.0));
+        let (y0, y1) = (panel.y_edges[0], *panel.y_edges.last().unwrap_or(&1.0));
+        // keep the aspect ratio of lengths (not of wave numbers)
+        let (aw, ah) = area.dim_in_pixel();
+        let (label_x, label_y, caption, margin) = (34i32, 48i32, 24i32, 8i32);
+        let (mut extra_w, mut extra_h) = (0i32, 0i32);
+        if !panel.wave_numbers {
+            let room_w = (aw as i32 - label_y - 2 * margin).max(10) as f64;
+            let room_h = (ah as i32 - label_x - caption - 2 * margin).max(10) as f64;
+            let s = (room_w / (x1 - x0)).min(room_h / (y1 - y0));
+            extra_w = (room_w - s * (x1 - x0)).max(0.0) as i32;
+            extra_h = (room_h - s * (y1 - y0)).max(0.0) as i32;
+        }
+        let mut chart = ChartBuilder::on(area)
+            .caption(panel.title.clone(), ("sans-serif", 14))
+            .margin(margin)
+            .margin_right(margin + extra_w)
+            .margin_top(margin + extra_h / 2)
+            .margin_bottom(margin + extra_h - extra_h / 2)
+            .x_label_area_size(label_x)
+            .y_label_area_size(label_y)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+        let integer = |v: &f64| {
+            if (v - v.round()).abs() < 1e-6 {
+                format!("{}", v.round())
+            } else {
+                String::new()
+            }
+        };
+        let mut mesh = chart.configure_mesh();
+        mesh.disable_mesh()
+            .x_desc(panel.x_label.clone())
+            .y_desc(panel.y_label.clone())
+            .label_style(("sans-serif", 11));
+        if panel.wave_numbers {
+            mesh.x_label_formatter(&integer).y_label_formatter(&integer);
+        } else {
+            mesh.x_labels(5)
+                .y_labels(5)
+                .x_label_formatter(&tick)
+                .y_label_formatter(&tick);
+        }
+        mesh.draw()?;
+        let ny = panel.y_edges.len() - 1;
+        chart.draw_series(panel.values.iter().enumerate().filter_map(|(k, v)| {
+            let (i, j) = (k / ny, k % ny);
+            v.is_finite().then(|| {
+                Rectangle::new(
+                    [
+                        (panel.x_edges[i], panel.y_edges[j]),
+                        (panel.x_edges[i + 1], panel.y_edges[j + 1]),
+                    ],
+                    colour_map(scale(*v)).filled(),
+                )
+            })
+        }))?;
+        chart.draw_series(panel.marks.iter().map(|&(i, j)| {
+            Rectangle::new(
+                [
+                    (panel.x_edges[i], panel.y_edges[j]),
+                    (panel.x_edges[i + 1], panel.y_edges[j + 1]),
+                ],
+                RGBColor(214, 39, 40).stroke_width(2),
+            )
+        }))?;
+    }
+    // the colour bar
+    let (_, bh) = bar.dim_in_pixel();
+    let (top, bottom) = (40i32, bh as i32 - 50);
+    let steps = 64;
+    for k in 0..steps {
+        let y_hi = bottom - (bottom - top) * (k + 1) / steps;
+        let y_lo = bottom - (bottom - top) * k / steps;
+        bar.draw(&Rectangle::new(
+            [(20, y_hi), (44, y_lo)],
+            colour_map((k as f64 + 0.5) / steps as f64).filled(),
+        ))?;
+    }
+    let font = ("sans-serif", 11).into_font();
+    bar.draw(&Text::new(format!("{hi:.3}"), (48, top - 6), font.clone()))?;
+    bar.draw(&Text::new(
+        format!("{lo:.3}"),
+        (48, bottom - 6),
+        font.clone(),
+    ))?;
+    bar.draw(&Text::new(quantity.to_string(), (6, top - 26), font))?;
+    Ok(())
+}
+
+fn draw_labels<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    snapshots: &[(f64, String)],
+    window: Option<(f64, f64)>,
+    steady: bool,
+) -> DrawResult<DB> {
+    let (w, _) = root.dim_in_pixel();
+    let (strip, legend) = root.split_horizontally(w.saturating_sub(220));
+    let first = snapshots.first().map_or(0.0, |s| s.0);
+    let last = snapshots.last().map_or(1.0, |s| s.0);
+    // each snapshot's cell reaches to the next one; the last one is as wide as the one before
+    let step = if snapshots.len() > 1 {
+        last - snapshots[snapshots.len() - 2].0
+    } else {
+        1.0
+    };
+    let (x0, x1) = (first, (last + step).max(first + 1e-9));
+    let mut chart = ChartBuilder::on(&strip)
+        .caption("label of each snapshot", ("sans-serif", 15))
+        .margin(10)
+        .x_label_area_size(36)
+        .y_label_area_size(10)
+        .build_cartesian_2d(x0..x1, 0.0..1.0)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_y_axis()
+        .x_desc("collisions per particle")
+        .x_label_formatter(&tick)
+        .label_style(("sans-serif", 11))
+        .draw()?;
+    let base = |key: &str| key.split('(').next().unwrap_or(key).to_string();
+    chart.draw_series(snapshots.iter().enumerate().map(|(i, (c, key))| {
+        let end = snapshots.get(i + 1).map_or(c + step, |n| n.0);
+        Rectangle::new(
+            [(*c, 0.35), (end, 0.95)],
+            marker_colour(&base(key)).filled(),
+        )
+    }))?;
+    if let Some((w0, w1)) = window {
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(w0, 0.08), (w1.max(w0) + step, 0.2)],
+            window_colour(steady).filled(),
+        )))?;
+    }
+    // legend: each label with its share of the snapshots
+    let mut keys: Vec<(String, usize)> = Vec::new();
+    for (_, key) in snapshots {
+        match keys.iter_mut().find(|(k, _)| k == key) {
+            Some(k) => k.1 += 1,
+            None => keys.push((key.clone(), 1)),
+        }
+    }
+    keys.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    let font = ("sans-serif", 12).into_font();
+    let mut y = 30;
+    for (key, count) in keys.iter().take(7) {
+        legend.draw(&Rectangle::new(
+            [(6, y - 6), (20, y + 6)],
+            marker_colour(&base(key)).filled(),
+        ))?;
+        legend.draw(&Text::new(
+            format!(
+                "{key} {:.0} %",
+                100.0 * *count as f64 / snapshots.len() as f64
+            ),
+            (26, y - 7),
+            font.clone(),
+        ))?;
+        y += 20;
+    }
+    legend.draw(&Rectangle::new(
+        [(6, y - 3), (20, y + 3)],
+        window_colour(steady).filled(),
+    ))?;
+    legend.draw(&Text::new(
+        if steady {
+            "steady window"
+        } else {
+            "window (not steady)"
+        },
+        (26, y - 7),
+        font,
+    ))?;
+    Ok(())
+}

@@ -1,0 +1,159 @@
+//! The report of a sweep: per-job figures ([`job_figures`]) and one self-contained HTML file
+//! ([`html`]) with the phase diagram, a sortable table of the jobs and, per job, its
+//! parameters, provenance, figures and structure evolution. Read from the job directories
+//! alone (through the store), so it works while the sweep runs: a running or partial job shows
+//! what the records it has written so far give.
+
+pub mod html;
+pub mod job_figures;
+
+use crate::analysis::Analysis;
+use crate::sweep::phase::{PhaseDiagram, choose_axes, swept_in, title};
+use crate::sweep::store::{self, JobState};
+use crate::sweep::tables::{self, GatheredJob};
+use crate::sweep::{BadInput, Sweep, SweepDirs};
+use job_figures::JobFigure;
+use rayon::prelude::*;
+use std::path::PathBuf;
+
+/// File name of the report inside a sweep's results directory.
+pub const REPORT_FILE: &str = "report.html";
+
+/// What the report shows of one job.
+pub struct JobView<'a> {
+    pub gathered: &'a GatheredJob<'a>,
+    /// the run's clock at the result, or at the last checkpoint
+    pub progress: Option<f64>,
+    /// records written so far (snapshots)
+    pub records: usize,
+    /// the result's analysis, or for a running or partial job the analysis of its records so
+    /// far
+    pub analysis: Option<Analysis>,
+    /// figures with their PNG bytes
+    pub figures: Vec<(JobFigure, Vec<u8>)>,
+    /// what could not be read or drawn
+    pub problems: Vec<String>,
+}
+
+impl JobView<'_> {
+    /// True when the analysis is of the records so far, not a result.
+    pub fn provisional(&self) -> bool {
+        self.gathered.result.is_none() && self.analysis.is_some()
+    }
+}
+
+/// The phase diagram the report shows: the picture and its text table.
+pub struct DiagramView {
+    pub png: Vec<u8>,
+    pub table: String,
+    pub x: String,
+    pub y: Option<String>,
+}
+
+/// Read one job for the report: its analysis (the result's, or the records so far), its
+/// figures rendered as PNG; the figure files of a done job are written into its directory
+/// where they are missing (jobs finished before figures existed).
+pub fn view_job<'a>(dirs: &SweepDirs, gathered: &'a GatheredJob<'a>) -> JobView<'a> {
+    let job = gathered.job;
+    let dir = dirs.job_dir(&job.id);
+    let clock = job.params.run.clock();
+    let mut problems = Vec::new();
+    let progress = match &gathered.state {
+        JobState::Done => gathered.result.as_ref().map(|r| r.clock(clock)),
+        JobState::Partial(p) => Some(p.on(clock)),
+        JobState::Running => store::checkpoint_progress(&dir).map(|p| p.on(clock)),
+        _ => None,
+    };
+    let looks = matches!(
+        gathered.state,
+        JobState::Done | JobState::Running | JobState::Partial(_)
+    );
+    let records = if looks {
+        store::records_so_far(&dir).unwrap_or_else(|e| {
+            problems.push(format!("records: {e:#}"));
+            Vec::new()
+        })
+    } else {
+        Vec::new()
+    };
+    let analysis = match &gathered.result {
+        Some(r) => Some(r.analysis.clone()),
+        None if !records.is_empty() => job
+            .params
+            .analyser()
+            .and_then(|a| a.analyse(&records))
+            .map_err(|e| problems.push(format!("analysis of the records so far: {e}")))
+            .ok(),
+        None => None,
+    };
+    let drawn = analysis
+        .as_ref()
+        .map(|a| job_figures::figures(a, &records))
+        .unwrap_or_default();
+    if gathered.result.is_some()
+        && !job_figures::all_written(&dir, &drawn)
+        && let Err(e) = job_figures::write(&dir, &drawn)
+    {
+        problems.push(format!("writing the figure files: {e:#}"));
+    }
+    let mut figures = Vec::new();
+    for f in drawn {
+        match f.png() {
+            Ok(png) => figures.push((f, png)),
+            Err(e) => problems.push(format!("figure {}: {e:#}", f.name)),
+        }
+    }
+    JobView {
+        gathered,
+        progress,
+        records: records.len(),
+        analysis,
+        figures,
+        problems,
+    }
+}
+
+/// The diagram over `x` and `y` (defaults: the first two swept parameters), None when the
+/// sweep varies nothing and no axis is asked.
+pub fn diagram(
+    sweep: &Sweep,
+    jobs: &[GatheredJob],
+    x: Option<&str>,
+    y: Option<&str>,
+) -> Result<Option<DiagramView>, anyhow::Error> {
+    if x.is_none() && swept_in(sweep).is_empty() {
+        return Ok(None);
+    }
+    let (x, y) = choose_axes(sweep, x, y, None).map_err(BadInput)?;
+    let mut d = PhaseDiagram::build(sweep.engine(), jobs, &x, y.as_deref()).map_err(BadInput)?;
+    d.frame.title = title(
+        sweep,
+        &std::iter::once(x.as_str())
+            .chain(y.as_deref())
+            .collect::<Vec<_>>(),
+    );
+    Ok(Some(DiagramView {
+        png: d.png()?,
+        table: d.table(),
+        x,
+        y,
+    }))
+}
+
+/// Write the report of a sweep into its results directory (`report.html`); its path.
+pub fn write_report(
+    sweep: &Sweep,
+    dirs: &SweepDirs,
+    x: Option<&str>,
+    y: Option<&str>,
+) -> anyhow::Result<PathBuf> {
+    let jobs = tables::collect(sweep, dirs);
+    let diagram = diagram(sweep, &jobs, x, y)?;
+    let views: Vec<JobView> = jobs.par_iter().map(|j| view_job(dirs, j)).collect();
+    let page = html::page(sweep, dirs, diagram.as_ref(), &views);
+    std::fs::create_dir_all(&dirs.tables)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", dirs.tables.display()))?;
+    let path = dirs.tables.join(REPORT_FILE);
+    crate::sweep::write_atomic(&path, page.as_bytes())?;
+    Ok(path)
+}
