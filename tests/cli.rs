@@ -39,9 +39,17 @@ fn where_selects_jobs_and_status_speaks_json() {
     // the tables written at the end are the whole sweep's (2 done, 2 pending), not the
     // selection's
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("tables: 4 jobs of the sweep (2 done)"), "{stdout}");
+    assert!(
+        stdout.contains("tables: 4 jobs of the sweep (2 done)"),
+        "{stdout}"
+    );
     let jobs_table = std::fs::File::open(results.join("w").join("jobs.parquet")).unwrap();
-    let jobs_table = polars::prelude::SerReader::finish(polars::prelude::ParquetReader::new(jobs_table)).unwrap();
+    let jobs_table = {
+        use polars::prelude::SerReader;
+        polars::prelude::ParquetReader::new(jobs_table)
+            .finish()
+            .unwrap()
+    };
     assert_eq!(jobs_table.height(), 4);
     let out = granflow(&["status", f, "--results", r, "--json"]);
     assert!(out.status.success());

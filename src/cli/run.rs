@@ -201,7 +201,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let jobs = tables::collect(&sweep, &dirs);
     let failed: Vec<_> = jobs
         .iter()
-        .filter(|j| matches!(j.state.name(), "failed" | "damaged") && selected.contains(&j.job.id.0))
+        .filter(|j| {
+            matches!(j.state.name(), "failed" | "damaged") && selected.contains(&j.job.id.0)
+        })
         .collect();
     let failures = failed.len();
     if !failed.is_empty() {

@@ -143,7 +143,7 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
             JobState::Damaged { file, reason } => {
                 let files: &[&str] = match *file {
                     CHECKPOINT_FILE | RECORDS_FILE => &[CHECKPOINT_FILE, RECORDS_FILE],
-                    other => std::slice::from_ref(file),
+                    _ => std::slice::from_ref(file),
                 };
                 for f in files {
                     if dir.join(f).exists() {
