@@ -28,7 +28,7 @@ def doc_type(t):
         return "i64"
     if pa.types.is_boolean(t):
         return "bool"
-    if pa.types.is_string(t) or pa.types.is_large_string(t):
+    if pa.types.is_string(t):  # plain string: neither large_string nor string_view
         return "str"
     if pa.types.is_list(t) and pa.types.is_struct(t.value_type):
         fields = ", ".join(f"{f.name}: {doc_type(f.type)}" for f in t.value_type)

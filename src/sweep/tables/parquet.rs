@@ -5,7 +5,7 @@
 //! Not through polars' `DataFrame` writer: that one always writes strings as Arrow
 //! `string_view`, which pyarrow < 15 cannot read, and lists of structs would need polars'
 //! `dtype-struct` feature. The Arrow types here are the plain ones every reader knows:
-//! `double`, `int64`, `bool`, `large_string` (UTF-8) and `list<struct<...>>`.
+//! `double`, `int64`, `bool`, `string` (UTF-8) and `list<struct<...>>`.
 
 use crate::analysis::columns::{Cell, ColumnDef, ColumnKind};
 use polars_arrow::array::{Array, BooleanArray, ListArray, PrimitiveArray, StructArray, Utf8Array};
@@ -204,6 +204,19 @@ fn struct_type(fields: &[ColumnDef]) -> ArrowDataType {
     )
 }
 
+/// The type readers are told (the Arrow schema in the file's metadata): `string` where the
+/// arrays are `large_string`, which polars' writer needs (Parquet stores both alike). `string`
+/// is what pyarrow and pandas make themselves, so their tables join ours without casts.
+fn read_type(dtype: &ArrowDataType) -> ArrowDataType {
+    let field = |f: &Field| Field::new(f.name.clone(), read_type(&f.dtype), f.is_nullable);
+    match dtype {
+        ArrowDataType::LargeUtf8 => ArrowDataType::Utf8,
+        ArrowDataType::List(item) => ArrowDataType::List(Box::new(field(item))),
+        ArrowDataType::Struct(fields) => ArrowDataType::Struct(fields.iter().map(field).collect()),
+        other => other.clone(),
+    }
+}
+
 /// Write the columns (of equal length) as a Parquet file, zstd-compressed, with the Arrow
 /// schema and `metadata` as its key-value metadata; synced to disk.
 pub fn write(
@@ -252,7 +265,11 @@ pub fn write(
     for (start, group) in (0..rows).step_by(ROW_GROUP_ROWS).zip(groups) {
         writer.write(ROW_GROUP_ROWS.min(rows - start) as u64, group?)?;
     }
-    let mut key_values = vec![schema_to_metadata_key(&schema)];
+    let read_as: ArrowSchema = schema
+        .iter_values()
+        .map(|f| Field::new(f.name.clone(), read_type(&f.dtype), true))
+        .collect();
+    let mut key_values = vec![schema_to_metadata_key(&read_as)];
     key_values.extend(metadata.iter().map(|(key, value)| KeyValue {
         key: key.clone(),
         value: Some(value.clone()),
