@@ -4,7 +4,8 @@
 //! three states, signed 64-bit integers, plain UTF-8 strings, lists of structs for the mode
 //! lists, null and never NaN, `job_id` the one key shared by the tables, zstd. The reading
 //! is `tables_check.py`; python3 with pyarrow and duckdb is required (`.ci/run` installs them;
-//! locally `python3 -m pip install pyarrow duckdb`).
+//! locally `python3 -m pip install pyarrow duckdb`). Also: gathers that run at the same time
+//! (runners that end together) all succeed and leave one set.
 
 mod common;
 
@@ -158,4 +159,46 @@ fn a_seed_beyond_the_signed_range_is_bad_input() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// Gathers started together on one results directory (as runners that end together do) all
+/// succeed, one after the other, and leave one current set and no other generation.
+#[test]
+fn gathers_at_the_same_time_all_succeed() {
+    let dir = scratch("tables-concurrent");
+    let file = dir.join("edmd.ron");
+    std::fs::write(&file, SWEEPS[0].1).unwrap();
+    let results = dir.join("results");
+    let (f, r) = (file.to_str().unwrap(), results.to_str().unwrap());
+    granflow_ok(&["run", f, "--results", r, "--threads", "2"]);
+    let gathers: Vec<_> = (0..6)
+        .map(|_| {
+            Command::new(BIN)
+                .args(["gather", f, "--results", r])
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    for g in gathers {
+        let out = g.wait_with_output().unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let tables = results.join("edmd");
+    let generations: Vec<String> = std::fs::read_dir(&tables)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".tables-"))
+        .collect();
+    assert_eq!(generations.len(), 1, "{generations:?}");
+    let current = std::fs::read_link(tables.join("tables")).unwrap();
+    assert_eq!(current, Path::new(&generations[0]));
+    for name in ["jobs", "spectra", "profiles", "energy"] {
+        assert!(tables.join(format!("{name}.parquet")).is_file(), "{name}");
+    }
 }

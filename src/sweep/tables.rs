@@ -78,9 +78,13 @@ pub fn schema(engine: &EngineDef) -> Vec<(String, Vec<(String, ColumnKind)>)> {
 /// Write the tables of a sweep into its tables directory: `jobs.parquet` and the row tables
 /// of its engine's analysis.
 pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> {
-    let jobs = collect(sweep, dirs);
     let engine = super::spec::engine_of(&sweep.spec).expect("a loaded sweep names an engine");
     std::fs::create_dir_all(&dirs.tables)?;
+    // one gather at a time in a tables directory (two runners end together): a second one
+    // waits, then reads the jobs anew, so the set it writes is no older than the first's, and
+    // no generation directory is being written while one is cleaned up
+    let _one_at_a_time = lock_gathering(&dirs.tables)?;
+    let jobs = collect(sweep, dirs);
     // the set is written into a new generation directory, then switched to with one atomic
     // rename of the `tables` link: a kill leaves either the old set or the new one
     let generation = format!(
@@ -124,8 +128,27 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
 /// are links into it.
 pub const TABLES_LINK: &str = "tables";
 
+/// The file a gather holds an exclusive lock on while it writes and switches a set.
+pub const GATHER_LOCK: &str = ".gather.lock";
+
+/// Wait for the tables directory's gather lock (released when the file is dropped, or the
+/// process ends). Where the file system has no working locks the gather goes on unlocked (as
+/// `run --unsafe-no-locks` does: safe while one gather runs at a time).
+fn lock_gathering(dir: &Path) -> anyhow::Result<std::fs::File> {
+    let path = dir.join(GATHER_LOCK);
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(&path)
+        .map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))?;
+    let _ = file.lock();
+    Ok(file)
+}
+
 /// Make `generation` the current set: a new link renamed over `tables` (atomic), the
-/// `<name>.parquet` links made once, earlier generations removed.
+/// `<name>.parquet` links made once, every other generation removed (the caller holds the
+/// gather lock: they are earlier sets, or sets of gathers that were killed).
 fn switch_tables(dir: &Path, generation: &str, names: &[String]) -> anyhow::Result<()> {
     let link = dir.join(TABLES_LINK);
     let tmp = dir.join(format!(".{TABLES_LINK}.tmp-{}", std::process::id()));
