@@ -109,7 +109,7 @@ fn the_shipped_lga_sweep_runs_resumes_after_kill_9_and_tabulates() {
         "alpha",
         "peak_frequency",
         "wave_velocity",
-        "steps",
+        "final_steps",
         "rest_hops",
     ] {
         assert!(jobs.column(col).is_ok(), "jobs.parquet lacks {col}");

@@ -562,22 +562,22 @@ fn check_tables_with_pyarrow(tables: &Path, jobs: usize) {
 import sys, pyarrow.parquet as pq
 d, n = sys.argv[1], int(sys.argv[2])
 jobs = pq.read_table(d + "/jobs.parquet").to_pydict()
-assert len(jobs["id"]) == n, jobs["id"]
+assert len(jobs["job_id"]) == n, jobs["job_id"]
 assert all(s == "done" for s in jobs["state"]), jobs["state"]
 for col in ["length_over_width", "width_over_diameter", "height_over_diameter", "volume_fraction",
             "particles", "restitution", "roughness", "seed", "label", "humps", "pair_collisions",
-            "tc_elastic_fraction", "wall_seconds", "events_per_second", "collisions_per_particle"]:
+            "tc_elastic_fraction", "wall_seconds", "events_per_second", "final_collisions_per_particle"]:
     assert col in jobs, col
-assert all(c >= 1500 for c in jobs["collisions_per_particle"])
+assert all(c >= 1500 for c in jobs["final_collisions_per_particle"])
 assert sorted(set(jobs["length_over_width"])) == [1.0, 2.0, 3.0]
 energy = pq.read_table(d + "/energy.parquet").to_pydict()
-assert set(energy["job_id"]) == set(jobs["id"])
+assert set(energy["job_id"]) == set(jobs["job_id"])
 assert all(0.0 <= c <= 1500.0 for c in energy["collisions_per_particle"])
 for name, cols in [("spectra", ["job_id", "plane", "k1", "k2", "power"]),
                    ("profiles", ["job_id", "quantity", "bin", "y", "value"])]:
     t = pq.read_table(d + "/" + name + ".parquet")
     assert t.column_names == cols, t.column_names
-    assert set(t.column("job_id").to_pylist()) <= set(jobs["id"])
+    assert set(t.column("job_id").to_pylist()) <= set(jobs["job_id"])
 print("pyarrow ok")
 "#;
     let out = Command::new("python3")

@@ -2,19 +2,42 @@
 //! row. `sweep::tables` writes them to Parquet; the schema is fixed by the declaration, never by
 //! which jobs happen to be done.
 
-/// The type of a column.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The type of a column. Integers are signed 64-bit (whatever the Rust field: counts, indices
+/// and wave numbers subtract and multiply without surprises in every reader); floats are f64
+/// with NaN written as null; text is UTF-8.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ColumnKind {
     F64,
-    U32,
-    U64,
     I64,
     Bool,
     Str,
+    /// a list of structs with these fields (each of a scalar kind)
+    List(&'static [ColumnDef]),
 }
 
-/// One column of a table.
-#[derive(Clone, Copy, Debug)]
+impl ColumnKind {
+    /// The type as `results/README.md` writes it: `f64`, `i64`, `bool`, `str`, or
+    /// `list<struct<name: type, ...>>`.
+    pub fn doc_name(self) -> String {
+        match self {
+            ColumnKind::F64 => "f64".into(),
+            ColumnKind::I64 => "i64".into(),
+            ColumnKind::Bool => "bool".into(),
+            ColumnKind::Str => "str".into(),
+            ColumnKind::List(fields) => format!(
+                "list<struct<{}>>",
+                fields
+                    .iter()
+                    .map(|f| format!("{}: {}", f.name, f.kind.doc_name()))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
+    }
+}
+
+/// One column of a table (or one field of a list column's structs).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ColumnDef {
     pub name: &'static str,
     pub kind: ColumnKind,
@@ -33,11 +56,11 @@ pub struct TableDef {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Cell {
     F64(f64),
-    U32(u32),
-    U64(u64),
     I64(i64),
     Bool(bool),
     Str(String),
+    /// the structs of a list column, each as its fields' cells in declared order
+    List(Vec<Vec<Cell>>),
     Null,
 }
 
@@ -47,15 +70,34 @@ impl From<f64> for Cell {
     }
 }
 
+impl From<i64> for Cell {
+    fn from(v: i64) -> Self {
+        Cell::I64(v)
+    }
+}
+
 impl From<u32> for Cell {
     fn from(v: u32) -> Self {
-        Cell::U32(v)
+        Cell::I64(i64::from(v))
     }
 }
 
 impl From<u64> for Cell {
+    /// Null above `i64::MAX` (no count gets there).
     fn from(v: u64) -> Self {
-        Cell::U64(v)
+        i64::try_from(v).map_or(Cell::Null, Cell::I64)
+    }
+}
+
+impl From<usize> for Cell {
+    fn from(v: usize) -> Self {
+        i64::try_from(v).map_or(Cell::Null, Cell::I64)
+    }
+}
+
+impl From<bool> for Cell {
+    fn from(v: bool) -> Self {
+        Cell::Bool(v)
     }
 }
 
@@ -68,5 +110,11 @@ impl From<&str> for Cell {
 impl From<String> for Cell {
     fn from(v: String) -> Self {
         Cell::Str(v)
+    }
+}
+
+impl<T: Into<Cell>> From<Option<T>> for Cell {
+    fn from(v: Option<T>) -> Self {
+        v.map_or(Cell::Null, Into::into)
     }
 }

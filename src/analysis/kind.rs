@@ -117,14 +117,9 @@ impl AnalysisKind {
     }
 
     /// The summary columns of `jobs.parquet`, in order, with their types: the fields of the
-    /// kind's summary (fixed, whatever jobs are done).
+    /// kind's summary (fixed, whatever jobs are done). Integers are i64, NaN-able numbers f64,
+    /// lists are lists of the structs [`super::modes::list_column`] declares.
     pub fn summary_columns(self) -> Vec<(String, ColumnKind)> {
-        if self == AnalysisKind::Rarefied {
-            return rarefied_summary(&super::rarefied::RarefiedSummary::default())
-                .into_iter()
-                .map(|(name, v)| (name, column_kind(&v)))
-                .collect();
-        }
         let empty = match self {
             AnalysisKind::Structure => {
                 serde_json::to_value(super::report::empty_summary()).expect("summary serialises")
@@ -133,14 +128,16 @@ impl AnalysisKind {
                 super::lattice::analyse(&[], &LatticeSettings::default()).summary,
             )
             .expect("summary serialises"),
-            AnalysisKind::Rarefied => unreachable!("handled above"),
+            AnalysisKind::Rarefied => Value::Object(rarefied_summary(
+                &super::rarefied::RarefiedSummary::default(),
+            )),
         };
         let Value::Object(map) = empty else {
             return Vec::new();
         };
         map.into_iter()
             .map(|(name, v)| {
-                let kind = column_kind(&v);
+                let kind = column_kind(&name, &v);
                 (name, kind)
             })
             .collect()
@@ -156,13 +153,16 @@ impl AnalysisKind {
     }
 }
 
-/// The column type of a summary value.
-fn column_kind(v: &Value) -> ColumnKind {
+/// The column type of a summary field from its value in an empty summary (a float that is NaN
+/// there serialises as null).
+fn column_kind(name: &str, v: &Value) -> ColumnKind {
     match v {
         Value::Bool(_) => ColumnKind::Bool,
         Value::String(_) => ColumnKind::Str,
-        Value::Number(n) if n.is_u64() => ColumnKind::U64,
-        Value::Number(n) if n.is_i64() => ColumnKind::I64,
+        Value::Number(n) if n.is_u64() || n.is_i64() => ColumnKind::I64,
+        Value::Array(_) => ColumnKind::List(super::modes::list_column(name).unwrap_or_else(|| {
+            panic!("summary field `{name}` is a list: declare its struct fields in analysis::modes::list_column")
+        })),
         _ => ColumnKind::F64,
     }
 }
@@ -223,17 +223,17 @@ const LATTICE_TABLES: &[TableDef] = &[
         columns: &[
             ColumnDef {
                 name: "step",
-                kind: ColumnKind::U64,
+                kind: ColumnKind::I64,
                 doc: "time step of the record",
             },
             ColumnDef {
                 name: "bin",
-                kind: ColumnKind::U32,
+                kind: ColumnKind::I64,
                 doc: "bin along the pipe",
             },
             ColumnDef {
                 name: "count",
-                kind: ColumnKind::U32,
+                kind: ColumnKind::I64,
                 doc: "particles in the bin",
             },
         ],
@@ -251,12 +251,12 @@ const STRUCTURE_TABLES: &[TableDef] = &[
             },
             ColumnDef {
                 name: "k1",
-                kind: ColumnKind::U32,
+                kind: ColumnKind::I64,
                 doc: "wave number along the plane's first axis",
             },
             ColumnDef {
                 name: "k2",
-                kind: ColumnKind::U32,
+                kind: ColumnKind::I64,
                 doc: "wave number along the plane's second axis",
             },
             ColumnDef {
@@ -276,7 +276,7 @@ const STRUCTURE_TABLES: &[TableDef] = &[
             },
             ColumnDef {
                 name: "bin",
-                kind: ColumnKind::U32,
+                kind: ColumnKind::I64,
                 doc: "bin across the channel",
             },
             ColumnDef {
@@ -353,7 +353,7 @@ const RAREFIED_PROFILE_COLUMNS: &[ColumnDef] = &[
     f64_column("n2", "second normal-stress difference N2 (eq. 3.30)"),
     f64_column("local_knudsen", "local Knudsen number Kn_y (eq. 3.25)"),
     f64_column("species1_density", "n_1 / n_avg"),
-    f64_column("species2_density", "n_2 / n_avg (NaN when monodisperse)"),
+    f64_column("species2_density", "n_2 / n_avg (null when monodisperse)"),
     f64_column("species1_temperature", "T_1 / T_w (eq. 5.9)"),
     f64_column("species2_temperature", "T_2 / T_w (eq. 5.10)"),
     f64_column("species1_velocity", "u_x,1 / u_c"),

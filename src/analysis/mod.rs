@@ -8,7 +8,7 @@
 //! Modules: [`fields`] (grid and cellwise averages), [`spectrum`] (2D FFT power spectra),
 //! [`profiles`] (binwise profiles across the channel), [`steady`] (steady-state detector),
 //! [`classify`] (family decomposition vs shot noise, labels), `report` (evolution, rows and
-//! strings of the result), [`snapshot_io`] (XYZ and VTK files). The definitions, defaults and thresholds are documented in README.md, section
+//! mode lists of the result), [`modes`] (the dominant modes and family peaks), [`snapshot_io`] (XYZ and VTK files). The definitions, defaults and thresholds are documented in README.md, section
 //! "Analysis and structure classifier".
 
 pub mod balance;
@@ -18,6 +18,7 @@ pub mod fields;
 mod kind;
 pub mod labels;
 pub mod lattice;
+pub mod modes;
 pub mod profiles;
 pub mod rarefied;
 mod report;
@@ -33,6 +34,7 @@ pub use snapshot_io::{SnapshotNames, write_vtk_density, write_xyz};
 use crate::engine::{Particles, Snapshot};
 use classify::{FamilyPowers, assess, family_powers, noise_per_mode};
 use fields::{Grid, SPHERE_VOLUME, cell_counts, plane_counts};
+use modes::{DominantMode, FamilyPeak};
 use report::{dominant_modes, empty_summary, family_peaks, spectrum_rows, structure_evolution};
 use serde::{Deserialize, Serialize};
 
@@ -226,13 +228,17 @@ pub struct Summary {
     pub significance_antisymmetric: f64,
     pub significance_symmetric_rest: f64,
     pub significance_spanwise: f64,
-    /// each family's strongest folded mode: "family plane(k1,k2) ratio/threshold" joined by "; "
-    pub family_peaks: String,
+    /// each family's strongest folded mode against its peak-test threshold (results of older
+    /// versions hold the text "family plane(k1,k2) ratio/threshold; ...")
+    #[serde(deserialize_with = "modes::list_or_legacy_text")]
+    pub family_peaks: Vec<FamilyPeak>,
     /// dominant |k_x| of the antisymmetric excess power and the fraction of that excess in it
     pub antisymmetric_kx: u32,
     pub antisymmetric_coherence: f64,
-    /// the five strongest xy modes: "(k_x,k_y) P [P/noise]" separated by "; "
-    pub dominant_modes: String,
+    /// the five strongest xy modes (results of older versions hold the text
+    /// "(k_x,k_y) P [P/noise x]; ...")
+    #[serde(deserialize_with = "modes::list_or_legacy_text")]
+    pub dominant_modes: Vec<DominantMode>,
     /// the coarse-graining grid
     pub grid_x: u32,
     pub grid_y: u32,

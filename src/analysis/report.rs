@@ -1,7 +1,8 @@
 //! Pieces of a job's result: the structure evolution from per-snapshot labels, spectrum rows,
-//! the dominant-mode and family-peak strings, and the empty summary.
+//! the dominant modes and family peaks, and the empty summary.
 
 use super::classify;
+use super::modes::{DominantMode, FamilyPeak};
 use super::spectrum::{folded_shape, multiplicity};
 use super::{SnapshotRecord, SpectrumRow, StructureChange, Summary};
 
@@ -50,22 +51,23 @@ pub(super) fn structure_evolution(
     out
 }
 
-/// Each family's strongest mode against its peak-test threshold, as
-/// "family plane(k1,k2) ratio/threshold" separated by "; ".
-pub(super) fn family_peaks(a: &classify::Assessment) -> String {
+/// Each family's strongest mode against its peak-test threshold (families without modes
+/// left out).
+pub(super) fn family_peaks(a: &classify::Assessment) -> Vec<FamilyPeak> {
     classify::FAMILY_NAMES
         .iter()
         .zip(&a.peaks)
         .filter_map(|(name, p)| {
-            p.map(|p| {
-                format!(
-                    "{name} {}({},{}) {:.1}/{:.1}",
-                    p.mode.plane, p.mode.k1, p.mode.k2, p.ratio, p.threshold
-                )
+            p.map(|p| FamilyPeak {
+                family: (*name).into(),
+                plane: p.mode.plane.into(),
+                k1: p.mode.k1 as u32,
+                k2: p.mode.k2 as u32,
+                ratio: p.ratio,
+                threshold: p.threshold,
             })
         })
-        .collect::<Vec<_>>()
-        .join("; ")
+        .collect()
 }
 
 /// Grid sizes (first, second axis) of a plane.
@@ -98,14 +100,14 @@ pub(super) fn spectrum_rows(folded: &[f64], n: [usize; 3], plane: usize) -> Vec<
     rows
 }
 
-/// The `count` strongest modes of a folded xy spectrum as "(k_x,k_y) P [P/noise]".
+/// The `count` strongest modes of a folded xy spectrum with their power over noise.
 pub(super) fn dominant_modes(
     folded: &[f64],
     n1: usize,
     n2: usize,
     p0: f64,
     count: usize,
-) -> String {
+) -> Vec<DominantMode> {
     let (m1, m2) = folded_shape(n1, n2);
     let mut modes: Vec<(usize, usize, f64)> = (0..m1)
         .flat_map(|k1| (0..m2).map(move |k2| (k1, k2)))
@@ -118,10 +120,15 @@ pub(super) fn dominant_modes(
         .take(count)
         .map(|&(k1, k2, p)| {
             let noise = (multiplicity(k1, n1) * multiplicity(k2, n2)) as f64 * p0;
-            format!("({k1},{k2}) {p:.3e} [{:.1}x]", p / noise)
+            DominantMode {
+                plane: "xy".into(),
+                k1: k1 as u32,
+                k2: k2 as u32,
+                power: p,
+                ratio: p / noise,
+            }
         })
-        .collect::<Vec<_>>()
-        .join("; ")
+        .collect()
 }
 
 /// A summary before anything is known.
@@ -175,10 +182,10 @@ pub(super) fn empty_summary() -> Summary {
         significance_antisymmetric: f64::NAN,
         significance_symmetric_rest: f64::NAN,
         significance_spanwise: f64::NAN,
-        family_peaks: String::new(),
+        family_peaks: Vec::new(),
         antisymmetric_kx: 0,
         antisymmetric_coherence: f64::NAN,
-        dominant_modes: String::new(),
+        dominant_modes: Vec::new(),
         grid_x: 0,
         grid_y: 0,
         grid_z: 0,

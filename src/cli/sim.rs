@@ -450,12 +450,18 @@ fn print_structure(a: &JobAnalysis) {
     for (((name, p, r), t), g) in rows.into_iter().zip(thresholds).zip(significance) {
         println!("{name:<16} {p:>12.4e} {r:>10.2} {t:>10.2} {g:>13.2}");
     }
-    println!("family peaks (ratio/threshold): {}", s.family_peaks);
+    println!(
+        "family peaks (ratio/threshold): {}",
+        analysis::modes::joined(&s.family_peaks)
+    );
     println!(
         "antisymmetric: dominant k_x = {}, coherence {:.2}",
         s.antisymmetric_kx, s.antisymmetric_coherence
     );
-    println!("dominant xy modes: {}", s.dominant_modes);
+    println!(
+        "dominant xy modes: {}",
+        analysis::modes::joined(&s.dominant_modes)
+    );
     println!(
         "mean E_trans/N = {:.5}, E_rot/N = {:.5}, slip velocity U_x(wall) = {:.4}",
         s.mean_translational_energy, s.mean_rotational_energy, s.slip_velocity

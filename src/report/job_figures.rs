@@ -364,9 +364,9 @@ fn spectra_figure(a: &JobAnalysis) -> Option<JobFigure> {
              (log10); outlined: the {significant} modes above the 5-sigma peak threshold \
              (false-alarm probability shared among the plane's modes). Dominant xy modes: {}.",
             if s.dominant_modes.is_empty() {
-                "-"
+                "-".to_string()
             } else {
-                &s.dominant_modes
+                crate::analysis::modes::joined(&s.dominant_modes)
             }
         ),
         plot: Plot::Maps {

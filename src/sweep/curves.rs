@@ -71,7 +71,7 @@ pub fn numeric_columns(engine: &EngineDef) -> Vec<String> {
         .analysis
         .summary_columns()
         .into_iter()
-        .filter(|(_, k)| !matches!(k, ColumnKind::Str | ColumnKind::Bool))
+        .filter(|(_, k)| matches!(k, ColumnKind::F64 | ColumnKind::I64))
         .map(|(n, _)| n)
         .collect()
 }

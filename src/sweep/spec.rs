@@ -709,6 +709,17 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
         return Err(src.error_at(None, "seeds", 0, "no seeds: give at least one".into()));
     }
     for (i, s) in spec.seeds.iter().enumerate() {
+        if i64::try_from(*s).is_err() {
+            return Err(src.error_at(
+                None,
+                "seeds",
+                0,
+                format!(
+                    "seed {s} is out of range: allowed 0 to {} (tables hold it as a signed 64-bit integer)",
+                    i64::MAX
+                ),
+            ));
+        }
         if spec.seeds[..i].contains(s) {
             return Err(src.error_at(
                 None,

@@ -1,16 +1,21 @@
-//! The Parquet tables of a results directory (written with polars): `jobs.parquet` (one row per
-//! job: parameters, state, the analysis summary, counters) and the row tables the engine's
-//! analysis declares (`spectra`, `profiles`, `energy` for the structure analysis). Columns are
-//! documented in `results/README.md`. Written atomically (temp file + fsync + rename).
+//! The Parquet tables of a results directory: `jobs.parquet` (one row per job: parameters,
+//! state, the analysis summary, counters, final clocks) and the row tables the engine's
+//! analysis declares (`spectra`, `profiles`, `energy` for the structure analysis), each keyed
+//! by `job_id`. The schema follows from the declarations alone (the same whether no job or
+//! every job is done; null where a value is not known or NaN); columns are documented in
+//! `results/README.md`. A set is written into a new directory and switched to atomically;
+//! [`parquet`] writes one file.
 
 use super::store::{self, JobResult, JobState};
 use super::{Sweep, SweepDirs};
-use crate::analysis::columns::{Cell, ColumnKind};
+use crate::analysis::columns::{Cell, ColumnKind, TableDef};
 use crate::engine::declare::ParamKind;
 use crate::engine::{Clock, EngineDef};
-use polars::prelude::*;
+use parquet::Column;
 use serde_json::Value;
 use std::path::Path;
+
+mod parquet;
 
 /// What [`gather`] wrote.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -55,40 +60,31 @@ pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
         .collect()
 }
 
-/// The tables an engine's sweeps write and their columns, in order (the schema is fixed by the
-/// declarations: the same whether no job or every job is done).
-pub fn schema(engine: &EngineDef) -> anyhow::Result<Vec<(String, Vec<String>)>> {
-    let names = |df: &DataFrame| {
-        df.get_column_names()
-            .iter()
-            .map(|n| n.to_string())
+/// The tables an engine's sweeps write and their columns with their types, in order (the
+/// schema is fixed by the declarations: the same whether no job or every job is done).
+pub fn schema(engine: &EngineDef) -> Vec<(String, Vec<(String, ColumnKind)>)> {
+    let columns = |cols: Vec<Column>| {
+        cols.iter()
+            .map(|c| (c.name().to_string(), c.kind()))
             .collect::<Vec<_>>()
     };
-    let mut out = vec![("jobs".to_string(), names(&jobs_frame(engine, &[])?))];
+    let mut out = vec![("jobs".to_string(), columns(jobs_table(engine, &[])))];
     for table in engine.analysis.tables() {
-        out.push((table.name.to_string(), names(&rows_frame(table, &[])?)));
+        out.push((table.name.to_string(), columns(rows_table(table, &[]))));
     }
-    Ok(out)
+    out
 }
 
 /// Write the tables of a sweep into its tables directory: `jobs.parquet` and the row tables
 /// of its engine's analysis.
 pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> {
-    let jobs = collect(sweep, dirs);
     let engine = super::spec::engine_of(&sweep.spec).expect("a loaded sweep names an engine");
     std::fs::create_dir_all(&dirs.tables)?;
-    // one gather at a time per tables directory (two runners that end together both gather):
-    // a gather removes the generations it did not write, which must not be another's set in
-    // the making. The lock dies with its process; where the file system has no locks, gathers
-    // are not serialised (as claims under --unsafe-no-locks).
-    let lock_path = dirs.tables.join(GATHER_LOCK);
-    let lock = std::fs::OpenOptions::new()
-        .create(true)
-        .write(true)
-        .truncate(false)
-        .open(&lock_path)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", lock_path.display()))?;
-    let _ = lock.lock();
+    // one gather at a time in a tables directory (two runners end together): a second one
+    // waits, then reads the jobs anew, so the set it writes is no older than the first's, and
+    // no generation directory is being written while one is cleaned up
+    let _one_at_a_time = lock_gathering(&dirs.tables)?;
+    let jobs = collect(sweep, dirs);
     // the set is written into a new generation directory, then switched to with one atomic
     // rename of the `tables` link: a kill leaves either the old set or the new one
     let generation = format!(
@@ -102,15 +98,15 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
     let metadata = file_metadata(sweep, &generation);
     let mut names = vec!["jobs".to_string()];
     let written = (|| -> anyhow::Result<()> {
-        write_parquet(
+        parquet::write(
             &staging.join("jobs.parquet"),
-            jobs_frame(engine, &jobs)?,
+            jobs_table(engine, &jobs),
             &metadata,
         )?;
         for table in engine.analysis.tables() {
-            write_parquet(
+            parquet::write(
                 &staging.join(format!("{}.parquet", table.name)),
-                rows_frame(table, &jobs)?,
+                rows_table(table, &jobs),
                 &metadata,
             )?;
             names.push(table.name.to_string());
@@ -128,15 +124,31 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
     })
 }
 
-/// The lock file that serialises gathers into one tables directory.
-pub const GATHER_LOCK: &str = ".gather.lock";
-
 /// The name of the link to the current table set inside a tables directory; `<name>.parquet`
 /// are links into it.
 pub const TABLES_LINK: &str = "tables";
 
+/// The file a gather holds an exclusive lock on while it writes and switches a set.
+pub const GATHER_LOCK: &str = ".gather.lock";
+
+/// Wait for the tables directory's gather lock (released when the file is dropped, or the
+/// process ends). Where the file system has no working locks the gather goes on unlocked (as
+/// `run --unsafe-no-locks` does: safe while one gather runs at a time).
+fn lock_gathering(dir: &Path) -> anyhow::Result<std::fs::File> {
+    let path = dir.join(GATHER_LOCK);
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(&path)
+        .map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))?;
+    let _ = file.lock();
+    Ok(file)
+}
+
 /// Make `generation` the current set: a new link renamed over `tables` (atomic), the
-/// `<name>.parquet` links made once, earlier generations removed.
+/// `<name>.parquet` links made once, every other generation removed (the caller holds the
+/// gather lock: they are earlier sets, or sets of gathers that were killed).
 fn switch_tables(dir: &Path, generation: &str, names: &[String]) -> anyhow::Result<()> {
     let link = dir.join(TABLES_LINK);
     let tmp = dir.join(format!(".{TABLES_LINK}.tmp-{}", std::process::id()));
@@ -186,167 +198,91 @@ fn file_metadata(sweep: &Sweep, generation: &str) -> Vec<(String, String)> {
     ]
 }
 
-fn write_parquet(
-    path: &Path,
-    mut df: DataFrame,
-    metadata: &[(String, String)],
-) -> anyhow::Result<()> {
-    let file = std::fs::File::create(path)?;
-    ParquetWriter::new(&file)
-        .with_compression(ParquetCompression::Uncompressed)
-        .with_key_value_metadata(Some(KeyValueMetadata::from_static(metadata.to_vec())))
-        .finish(&mut df)?;
-    file.sync_all()?;
-    Ok(())
-}
-
-/// A column being built, by type.
-enum Col {
-    F64(Vec<Option<f64>>),
-    U32(Vec<Option<u32>>),
-    I64(Vec<Option<i64>>),
-    U64(Vec<Option<u64>>),
-    Bool(Vec<Option<bool>>),
-    Str(Vec<Option<String>>),
-}
-
-impl Col {
-    fn new(kind: ColumnKind) -> Self {
-        match kind {
-            ColumnKind::F64 => Col::F64(Vec::new()),
-            ColumnKind::U32 => Col::U32(Vec::new()),
-            ColumnKind::U64 => Col::U64(Vec::new()),
-            ColumnKind::I64 => Col::I64(Vec::new()),
-            ColumnKind::Bool => Col::Bool(Vec::new()),
-            ColumnKind::Str => Col::Str(Vec::new()),
-        }
-    }
-
-    /// Append a cell (a cell of another type, or NaN, is null).
-    fn push(&mut self, cell: Cell) {
-        match (self, cell) {
-            (Col::F64(v), Cell::F64(x)) => v.push((!x.is_nan()).then_some(x)),
-            (Col::F64(v), Cell::U32(x)) => v.push(Some(x as f64)),
-            (Col::F64(v), Cell::U64(x)) => v.push(Some(x as f64)),
-            (Col::U32(v), Cell::U32(x)) => v.push(Some(x)),
-            (Col::U64(v), Cell::U64(x)) => v.push(Some(x)),
-            (Col::U64(v), Cell::U32(x)) => v.push(Some(x as u64)),
-            (Col::I64(v), Cell::I64(x)) => v.push(Some(x)),
-            (Col::Bool(v), Cell::Bool(x)) => v.push(Some(x)),
-            (Col::Str(v), Cell::Str(x)) => v.push(Some(x)),
-            (col, _) => col.push_null(),
-        }
-    }
-
-    fn push_null(&mut self) {
-        match self {
-            Col::F64(v) => v.push(None),
-            Col::U32(v) => v.push(None),
-            Col::U64(v) => v.push(None),
-            Col::I64(v) => v.push(None),
-            Col::Bool(v) => v.push(None),
-            Col::Str(v) => v.push(None),
-        }
-    }
-
-    fn into_column(self, name: &str) -> Column {
-        let name: PlSmallStr = name.into();
-        match self {
-            Col::F64(v) => Column::new(name, v),
-            Col::U32(v) => Column::new(name, v),
-            Col::I64(v) => Column::new(name, v),
-            Col::U64(v) => Column::new(name, v),
-            Col::Bool(v) => Column::new(name, v),
-            Col::Str(v) => Column::new(name, v),
-        }
-    }
-}
-
-/// A JSON summary value as a cell of a column of `kind`.
+/// A JSON summary value as a cell of a column of `kind` (a value of another type is null).
 fn json_cell(v: Option<&Value>, kind: ColumnKind) -> Cell {
     match (v, kind) {
         (Some(Value::Bool(b)), ColumnKind::Bool) => Cell::Bool(*b),
         (Some(Value::String(s)), ColumnKind::Str) => Cell::Str(s.clone()),
-        (Some(Value::Number(n)), ColumnKind::U64) => n.as_u64().map_or(Cell::Null, Cell::U64),
-        (Some(Value::Number(n)), ColumnKind::I64) => n.as_i64().map_or(Cell::Null, Cell::I64),
+        (Some(Value::Number(n)), ColumnKind::I64) => n
+            .as_i64()
+            .or_else(|| n.as_u64().and_then(|u| i64::try_from(u).ok()))
+            .map_or(Cell::Null, Cell::I64),
         (Some(Value::Number(n)), ColumnKind::F64) => n.as_f64().map_or(Cell::Null, Cell::F64),
+        (Some(Value::Array(items)), ColumnKind::List(fields)) => Cell::List(
+            items
+                .iter()
+                .map(|item| {
+                    fields
+                        .iter()
+                        .map(|f| json_cell(item.get(f.name), f.kind))
+                        .collect()
+                })
+                .collect(),
+        ),
         _ => Cell::Null,
     }
 }
 
-/// The `jobs.parquet` frame: plan, parameters, state, the analysis summary (null where a job
-/// is not done), counters and their ratios, final clocks, cost.
-fn jobs_frame(engine: &EngineDef, jobs: &[GatheredJob]) -> anyhow::Result<DataFrame> {
-    let n = jobs.len();
-    let mut cols = vec![
-        Column::new(
-            "id".into(),
-            jobs.iter().map(|j| j.job.id.0.clone()).collect::<Vec<_>>(),
-        ),
-        Column::new(
-            "plan_index".into(),
-            jobs.iter().map(|j| j.job.index as u64).collect::<Vec<_>>(),
-        ),
-        Column::new(
-            "engine".into(),
+/// The name in `jobs.parquet` of a clock's reading at the end of a job (`final_time`, ...):
+/// `energy.parquet` has the clocks of each snapshot under the plain names.
+pub fn final_clock_column(clock: Clock) -> String {
+    format!("final_{}", clock.key())
+}
+
+/// The columns of `jobs.parquet`: plan, parameters, state, the analysis summary (null where a
+/// job is not done), counters and their ratios, final clocks, cost.
+fn jobs_table(engine: &EngineDef, jobs: &[GatheredJob]) -> Vec<Column> {
+    let column = |name: &str, kind: ColumnKind, cell: &dyn Fn(&GatheredJob) -> Cell| {
+        Column::from_cells(name, kind, jobs.iter().map(cell))
+    };
+    let done = |name: &str, kind: ColumnKind, cell: &dyn Fn(&JobResult) -> Cell| {
+        Column::from_cells(
+            name,
+            kind,
             jobs.iter()
-                .map(|j| j.job.params.engine.clone())
-                .collect::<Vec<_>>(),
-        ),
+                .map(|j| j.result.as_ref().map_or(Cell::Null, cell)),
+        )
+    };
+    let mut cols = vec![
+        column("job_id", ColumnKind::Str, &|j| j.job.id.0.as_str().into()),
+        column("plan_index", ColumnKind::I64, &|j| j.job.index.into()),
+        column("engine", ColumnKind::Str, &|j| {
+            j.job.params.engine.as_str().into()
+        }),
     ];
     for def in engine.params {
         let value = |j: &GatheredJob| j.job.params.values.get(def.name).cloned();
         cols.push(match def.kind {
-            ParamKind::Integer => Column::new(
-                def.name.into(),
-                jobs.iter()
-                    .map(|j| value(j).and_then(|v| v.as_f64()).map(|v| v as u64))
-                    .collect::<Vec<_>>(),
-            ),
-            ParamKind::Real => Column::new(
-                def.name.into(),
-                jobs.iter()
-                    .map(|j| value(j).and_then(|v| v.as_f64()))
-                    .collect::<Vec<_>>(),
-            ),
-            ParamKind::Choice(_) => Column::new(
-                def.name.into(),
-                jobs.iter()
-                    .map(|j| value(j).and_then(|v| v.as_text().map(str::to_string)))
-                    .collect::<Vec<_>>(),
-            ),
+            ParamKind::Integer => column(def.name, ColumnKind::I64, &|j| {
+                value(j)
+                    .and_then(|v| v.as_f64())
+                    .map_or(Cell::Null, |v| Cell::I64(v as i64))
+            }),
+            ParamKind::Real => column(def.name, ColumnKind::F64, &|j| {
+                value(j).and_then(|v| v.as_f64()).into()
+            }),
+            ParamKind::Choice(_) => column(def.name, ColumnKind::Str, &|j| {
+                value(j)
+                    .and_then(|v| v.as_text().map(str::to_string))
+                    .into()
+            }),
         });
     }
-    cols.push(Column::new(
-        "seed".into(),
-        jobs.iter().map(|j| j.job.params.seed).collect::<Vec<_>>(),
-    ));
-    cols.push(Column::new(
-        "run_length".into(),
-        jobs.iter()
-            .map(|j| j.job.params.run.length())
-            .collect::<Vec<_>>(),
-    ));
-    cols.push(Column::new(
-        "snapshot_interval".into(),
-        jobs.iter()
-            .map(|j| j.job.params.run.snapshot_interval)
-            .collect::<Vec<_>>(),
-    ));
-    cols.push(Column::new(
-        "state".into(),
-        jobs.iter().map(|j| j.state.name()).collect::<Vec<_>>(),
-    ));
-    cols.push(Column::new(
-        "error".into(),
-        jobs.iter()
-            .map(|j| match &j.state {
-                JobState::Failed(e) => Some(e.clone()),
-                JobState::Damaged { reason, .. } => Some(reason.clone()),
-                _ => None,
-            })
-            .collect::<Vec<_>>(),
-    ));
+    cols.push(column("seed", ColumnKind::I64, &|j| {
+        j.job.params.seed.into()
+    }));
+    cols.push(column("run_length", ColumnKind::F64, &|j| {
+        j.job.params.run.length().into()
+    }));
+    cols.push(column("snapshot_interval", ColumnKind::F64, &|j| {
+        j.job.params.run.snapshot_interval.into()
+    }));
+    cols.push(column("state", ColumnKind::Str, &|j| j.state.name().into()));
+    cols.push(column("error", ColumnKind::Str, &|j| match &j.state {
+        JobState::Failed(e) => e.as_str().into(),
+        JobState::Damaged { reason, .. } => reason.as_str().into(),
+        _ => Cell::Null,
+    }));
     // a summary field that repeats a job column (e.g. `particles`) is left out: the job
     // column is the authority, and a table cannot hold two columns of one name
     let summaries: Vec<Option<serde_json::Map<String, Value>>> = jobs
@@ -354,84 +290,70 @@ fn jobs_frame(engine: &EngineDef, jobs: &[GatheredJob]) -> anyhow::Result<DataFr
         .map(|j| j.result.as_ref().map(|r| r.analysis.summary()))
         .collect();
     for (name, kind) in engine.analysis.summary_columns() {
-        if cols.iter().any(|c| c.name().as_str() == name) {
+        if cols.iter().any(|c| c.name() == name) {
             continue;
         }
-        let mut col = Col::new(kind);
-        for s in &summaries {
-            match s {
-                Some(s) => col.push(json_cell(s.get(&name), kind)),
-                None => col.push_null(),
-            }
-        }
-        cols.push(col.into_column(&name));
-    }
-    let r = |f: &dyn Fn(&JobResult) -> u64| -> Vec<Option<u64>> {
-        jobs.iter().map(|j| j.result.as_ref().map(f)).collect()
-    };
-    let rf = |f: &dyn Fn(&JobResult) -> f64| -> Vec<Option<f64>> {
-        jobs.iter().map(|j| j.result.as_ref().map(f)).collect()
-    };
-    for counter in engine.counters {
-        cols.push(Column::new(
-            counter.name.into(),
-            r(&|x| x.counters.get(counter.name)),
-        ));
-    }
-    for ratio in engine.ratios {
-        cols.push(Column::new(
-            ratio.name.into(),
-            rf(&|x| {
-                x.counters.get(ratio.numerator) as f64
-                    / x.counters.get(ratio.denominator).max(1) as f64
+        cols.push(Column::from_cells(
+            name.as_str(),
+            kind,
+            summaries.iter().map(|s| match s {
+                Some(s) => json_cell(s.get(&name), kind),
+                None => Cell::Null,
             }),
         ));
     }
-    for clock in engine.clocks {
+    for counter in engine.counters {
+        cols.push(done(counter.name, ColumnKind::I64, &|x| {
+            x.counters.get(counter.name).into()
+        }));
+    }
+    for ratio in engine.ratios {
+        cols.push(done(ratio.name, ColumnKind::F64, &|x| {
+            (x.counters.get(ratio.numerator) as f64
+                / x.counters.get(ratio.denominator).max(1) as f64)
+                .into()
+        }));
+    }
+    for &clock in engine.clocks {
+        let name = final_clock_column(clock);
         cols.push(match clock {
-            Clock::CollisionsPerParticle => {
-                Column::new(clock.key().into(), rf(&|x| x.collisions_per_particle))
-            }
-            Clock::Steps => Column::new(clock.key().into(), r(&|x| x.steps)),
-            Clock::Time => Column::new(clock.key().into(), rf(&|x| x.time)),
+            Clock::CollisionsPerParticle => done(&name, ColumnKind::F64, &|x| {
+                x.collisions_per_particle.into()
+            }),
+            Clock::Steps => done(&name, ColumnKind::I64, &|x| x.steps.into()),
+            Clock::Time => done(&name, ColumnKind::F64, &|x| x.time.into()),
         });
     }
-    cols.push(Column::new("snapshots".into(), r(&|x| x.snapshots as u64)));
-    cols.push(Column::new(
-        "stop_reason".into(),
-        jobs.iter()
-            .map(|j| j.result.as_ref().map(|x| x.stop_reason.clone()))
-            .collect::<Vec<_>>(),
-    ));
-    cols.push(Column::new("wall_seconds".into(), rf(&|x| x.wall_seconds)));
-    cols.push(Column::new(
-        "events_per_second".into(),
-        rf(&|x| x.events_per_second),
-    ));
-    Ok(DataFrame::new(n, cols)?)
+    cols.push(done("snapshots", ColumnKind::I64, &|x| x.snapshots.into()));
+    cols.push(done("stop_reason", ColumnKind::Str, &|x| {
+        x.stop_reason.as_str().into()
+    }));
+    cols.push(done("wall_seconds", ColumnKind::F64, &|x| {
+        x.wall_seconds.into()
+    }));
+    cols.push(done("events_per_second", ColumnKind::F64, &|x| {
+        x.events_per_second.into()
+    }));
+    cols
 }
 
-/// One of the analysis's row tables: `job_id` and the declared columns, rows of every done job.
-fn rows_frame(
-    table: &crate::analysis::columns::TableDef,
-    jobs: &[GatheredJob],
-) -> anyhow::Result<DataFrame> {
-    let mut id = Vec::new();
-    let mut cols: Vec<Col> = table.columns.iter().map(|c| Col::new(c.kind)).collect();
+/// The columns of one of the analysis's row tables: `job_id` and the declared columns, the
+/// rows of every done job.
+fn rows_table(table: &TableDef, jobs: &[GatheredJob]) -> Vec<Column> {
+    let mut id = Column::new("job_id", ColumnKind::Str);
+    let mut cols: Vec<Column> = table
+        .columns
+        .iter()
+        .map(|c| Column::new(c.name, c.kind))
+        .collect();
     for j in jobs {
         for row in j.result.iter().flat_map(|r| r.analysis.rows(table.name)) {
-            id.push(j.job.id.0.clone());
-            for (col, cell) in cols.iter_mut().zip(row) {
-                col.push(cell);
+            id.push(j.job.id.0.as_str().into());
+            let mut cells = row.into_iter();
+            for col in cols.iter_mut() {
+                col.push(cells.next().unwrap_or(Cell::Null));
             }
         }
     }
-    let n = id.len();
-    let mut columns = vec![Column::new("job_id".into(), id)];
-    columns.extend(
-        cols.into_iter()
-            .zip(table.columns)
-            .map(|(c, def)| c.into_column(def.name)),
-    );
-    Ok(DataFrame::new(n, columns)?)
+    std::iter::once(id).chain(cols).collect()
 }
