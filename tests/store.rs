@@ -691,3 +691,57 @@ fn results_and_logs_carry_their_provenance() {
         "{log}"
     );
 }
+
+/// A result stays valid when a later granflow reads it into changed types: its checksum is
+/// that of the file's own text (with the checksum value blanked), never of a re-serialisation.
+/// Here a result written as an older build would have written it (a field that later builds
+/// write, `stop_reason`, is missing from its text; its checksum is of that text) is done, not
+/// damaged; the same file with a changed value is damaged.
+#[test]
+fn results_of_older_layouts_keep_their_checksums() {
+    let dir = scratch("layouts");
+    let file = dir.join("s.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"edmd\", fixed: (length_over_width: 1.0, width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n run: (collisions_per_particle: 100, snapshot_interval: 20))",
+    )
+    .unwrap();
+    let results = dir.join("results");
+    let out = granflow(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let sweep = load_sweep(&file, &[]).unwrap();
+    let jd = sweep.results_dir(&results).job_dir(&sweep.plan[0].id);
+    let path = jd.join(store::RESULT_FILE);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let written = store::read_result(&jd).unwrap();
+    // the older layout: no stop_reason line, checksum of that text with the value blanked
+    let older: String = text
+        .lines()
+        .filter(|l| !l.starts_with("    stop_reason:"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert_ne!(older, text, "no stop_reason line to leave out");
+    let field = format!("\n    checksum: \"{}\"", written.checksum);
+    let blank = older.replacen(&field, "\n    checksum: \"\"", 1);
+    let sum = granflow::sweep::job::id_of_canonical(blank.trim_end_matches('\n')).0;
+    let older = blank.replacen(
+        "\n    checksum: \"\"",
+        &format!("\n    checksum: \"{sum}\""),
+        1,
+    );
+    std::fs::write(&path, older.trim_end_matches('\n')).unwrap();
+    let read = store::read_result(&jd).expect("an older layout is not damage");
+    assert_eq!(read.stop_reason, "");
+    // (compared as text: the analysis holds NaN where a balance is not known, and NaN != NaN)
+    assert_eq!(format!("{:?}", read.analysis), format!("{:?}", written.analysis));
+    // an edit of a value is damage
+    let edited = older.replacen("particles: ", "particles: 1", 1);
+    std::fs::write(&path, edited.trim_end_matches('\n')).unwrap();
+    let err = store::read_result(&jd).unwrap_err();
+    assert!(format!("{err:#}").contains("checksum mismatch"), "{err:#}");
+}

@@ -74,13 +74,25 @@ fn edmd() -> String {
     "edmd".into()
 }
 
-/// The text of a result with its checksum field empty, and the checksum of that text.
-fn text_and_checksum(result: &JobResult) -> anyhow::Result<(String, String)> {
-    let mut blank = result.clone();
-    blank.checksum.clear();
-    let text = ron::ser::to_string_pretty(&blank, ron::ser::PrettyConfig::default())?;
-    let sum = crate::sweep::job::id_of_canonical(&text).0;
-    Ok((text, sum))
+/// The top-level `checksum` field as the pretty RON writer puts it (fields of nested values
+/// are indented further).
+const CHECKSUM_FIELD: &str = "\n    checksum: \"";
+
+/// The checksum of a result's text: SHA-256 (first 16 hex digits) of the text with the value
+/// of its top-level `checksum` field empty. Computed on the file's own text, never on a
+/// re-serialisation, so that a result stays valid when a later granflow reads it into
+/// changed types.
+fn checksum_of(text_with_blank_field: &str) -> String {
+    crate::sweep::job::id_of_canonical(text_with_blank_field).0
+}
+
+/// A result's text with its top-level checksum value cut out, and that value (None without
+/// the field).
+fn blank_checksum(text: &str) -> Option<(String, &str)> {
+    let start = text.find(CHECKSUM_FIELD)? + CHECKSUM_FIELD.len();
+    let len = text[start..].find('"')?;
+    let blank = format!("{}{}", &text[..start], &text[start + len..]);
+    Some((blank, &text[start..start + len]))
 }
 
 /// Read a finished job's result and check that it is this job's and undamaged: it must parse,
@@ -93,9 +105,10 @@ pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
         ron::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     super::check_owner(dir, &result.id, &path)?;
     if !result.checksum.is_empty() {
-        let (_, sum) = text_and_checksum(&result)?;
+        let intact = blank_checksum(&text)
+            .is_some_and(|(blank, sum)| sum == result.checksum && checksum_of(&blank) == sum);
         anyhow::ensure!(
-            sum == result.checksum,
+            intact,
             "{}: checksum mismatch (the file was changed after it was written)",
             path.display()
         );
@@ -105,12 +118,22 @@ pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
 
 /// Write a job's result atomically (this marks it done), with its checksum.
 pub fn write_result(dir: &Path, result: &JobResult) -> anyhow::Result<()> {
-    let (_, sum) = text_and_checksum(result)?;
-    let sealed = JobResult {
-        checksum: sum,
+    let blank = JobResult {
+        checksum: String::new(),
         ..result.clone()
     };
-    let text = ron::ser::to_string_pretty(&sealed, ron::ser::PrettyConfig::default())?;
-    write_atomic(&dir.join(RESULT_FILE), text.as_bytes())?;
+    let text = ron::ser::to_string_pretty(&blank, ron::ser::PrettyConfig::default())?;
+    let empty = format!("{CHECKSUM_FIELD}\"");
+    anyhow::ensure!(
+        text.matches(&empty).count() == 1,
+        "result of job {}: no single top-level checksum field in its text",
+        result.id
+    );
+    let sealed = text.replacen(
+        &empty,
+        &format!("{CHECKSUM_FIELD}{}\"", checksum_of(&text)),
+        1,
+    );
+    write_atomic(&dir.join(RESULT_FILE), sealed.as_bytes())?;
     Ok(())
 }
