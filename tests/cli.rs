@@ -146,7 +146,7 @@ fn bench_json_keeps_its_keys() {
         "bench",
         "--json",
         "--workload",
-        "dsmc-kn1",
+        "dsmc-kn1-6000-sampled",
         "--moves",
         "2e6",
     ]);

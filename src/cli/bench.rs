@@ -104,7 +104,7 @@ struct DsmcWorkload {
 }
 
 /// The case the issue measured SPARTA on: 6000 simulators, 200 cells, dt = 0.1 tau_c, e_n = 1,
-/// thermal walls; sampled every step, or not at all.
+/// thermal walls, a-hat = 0.5; at Kn = 0.1 and 1, sampled every step or not at all.
 fn dsmc_workloads() -> Vec<DsmcWorkload> {
     let case = |kn: f64, sample_every: u64| DsmcParams {
         knudsen_number: kn,
@@ -126,6 +126,10 @@ fn dsmc_workloads() -> Vec<DsmcWorkload> {
         DsmcWorkload {
             name: "dsmc-kn1-6000-sampled",
             params: case(1.0, 1),
+        },
+        DsmcWorkload {
+            name: "dsmc-kn1-6000-unsampled",
+            params: case(1.0, u64::MAX / 2),
         },
     ]
 }

@@ -21,7 +21,9 @@ pub const WALL_MODELS: &[&str] = &["thermal", "maxwell", "rough", "adiabatic", "
 pub static DECLARATION: EngineDef = EngineDef {
     name: "dsmc",
     title: "direct simulation Monte Carlo of dilute granular Poiseuille flow (Gupta 2017)",
-    version: 1,
+    // 2: a mixture's NTC candidates of the species pairs in random order (monodisperse runs
+    // are bitwise those of version 1)
+    version: 2,
     params: PARAMS,
     alternatives: &[],
     clocks: &[Clock::Steps, Clock::Time],
