@@ -456,9 +456,9 @@ pub fn steady_over(
     let stats = labels::statistics(&verdicts, &average);
     (stats.probability >= labels::CLEAR_MAJORITY).then(|| {
         format!(
-            "steady over {:.6} .. {:.6} ({} snapshots, {} {}), label {} in {:.0} % of them",
-            on(&in_window[0]),
-            on(in_window.last().expect("non-empty")),
+            "steady over {} .. {} ({} snapshots, {} {}), label {} in {:.0} % of them",
+            clock_reading(on(&in_window[0])),
+            clock_reading(on(in_window.last().expect("non-empty"))),
             in_window.len(),
             span,
             clock.key(),
@@ -466,6 +466,13 @@ pub fn steady_over(
             100.0 * stats.probability
         )
     })
+}
+
+/// A clock reading as a person writes it: at most six decimals, no trailing zeros
+/// (124 for 124.000000, 0.25 for 0.250000).
+fn clock_reading(x: f64) -> String {
+    let text = format!("{x:.6}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// True when a record carries a usable grid (all plane counts present).

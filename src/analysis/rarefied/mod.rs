@@ -149,6 +149,20 @@ pub struct RarefiedSummary {
     pub density_segregation: Estimate,
     /// I_sp, eq. 5.16 (intensity of species segregation)
     pub species_segregation: Estimate,
+    /// largest layer-cell width over the local mean free path, max_y Delta y / lambda(y) with
+    /// lambda(y) = lambda n_avg / n(y) over the window (Bird's rule: at most 1/3; the a priori
+    /// cell choice meets it at the mean density, clustering can break it)
+    #[serde(default = "not_known")]
+    pub cell_width_over_mean_free_path: f64,
+    /// largest time step over the local mean collision time, max_y dt / tau(y) with
+    /// tau(y) = lambda(y) / sqrt(8 k T(y) / (pi m_1)) over the window (should stay well below 1)
+    #[serde(default = "not_known")]
+    pub time_step_over_collision_time: f64,
+}
+
+/// NaN: a quantity that results written before it existed do not carry.
+fn not_known() -> f64 {
+    f64::NAN
 }
 
 impl RarefiedSummary {
@@ -191,6 +205,14 @@ impl RarefiedSummary {
         out.push((
             "energy_identity_residual".into(),
             self.energy_identity_residual,
+        ));
+        out.push((
+            "cell_width_over_mean_free_path".into(),
+            self.cell_width_over_mean_free_path,
+        ));
+        out.push((
+            "time_step_over_collision_time".into(),
+            self.time_step_over_collision_time,
         ));
         out
     }
@@ -289,6 +311,8 @@ pub struct RarefiedAnalysis {
 struct Window {
     samples: f64,
     duration: f64,
+    /// time steps covered
+    steps: u64,
     moments: Vec<Moments>,
     balances: Balances,
 }
@@ -299,12 +323,14 @@ impl Window {
         let mut w = Window {
             samples: 0.0,
             duration: 0.0,
+            steps: 0,
             moments: vec![[0.0; MOMENTS]; first.moments.len()],
             balances: Balances::default(),
         };
         for r in records {
             w.samples += r.sums.samples as f64;
             w.duration += r.sums.duration;
+            w.steps += r.sums.end_step - r.sums.start_step;
             add_moments(&mut w.moments, &r.sums.moments);
             w.balances.add(&r.sums.balances);
         }
@@ -476,9 +502,45 @@ pub fn analyse(
         species_velocity_difference: est(16),
         density_segregation: est(17),
         species_segregation: est(18),
+        cell_width_over_mean_free_path: f64::NAN,
+        time_step_over_collision_time: f64::NAN,
+    };
+    let time_step = whole.duration / (whole.steps as f64).max(1.0);
+    let (cell_width_over_mean_free_path, time_step_over_collision_time) =
+        resolution(&whole_fields, &sc, time_step);
+    let summary = RarefiedSummary {
+        cell_width_over_mean_free_path,
+        time_step_over_collision_time,
+        ..summary
     };
     let profiles = profile_rows(&whole_fields, &block_fields, &sc, value.centre_temperature);
     Ok(RarefiedAnalysis { summary, profiles })
+}
+
+/// How finely the run resolved the gas where it is densest and hottest: the largest cell width
+/// over the local mean free path and the largest time step over the local mean collision
+/// time, (max_y Delta y / lambda(y), max_y dt / tau(y)). lambda(y) = Kn W n_avg / n(y) (the
+/// a priori lambda scaled by the local number density; in a mixture with the diameter of
+/// species 1), tau(y) = lambda(y) / sqrt(8 k T(y) / (pi m_1)). Empty cells do not count.
+fn resolution(fields: &[CellFields], sc: &Scales, time_step: f64) -> (f64, f64) {
+    let width = 1.0 / sc.cells as f64;
+    let mean_speed_at_wall_temperature = (8.0 / std::f64::consts::PI).sqrt();
+    let mut widest: f64 = 0.0;
+    let mut longest: f64 = 0.0;
+    for f in fields {
+        let number_density = f.species_density[0] + f.species_density[1];
+        if !(number_density > 0.0) {
+            continue;
+        }
+        let mean_free_path = sc.knudsen_number / number_density;
+        widest = widest.max(width / mean_free_path);
+        if f.temperature.is_finite() && f.temperature > 0.0 {
+            let collision_time =
+                mean_free_path / (mean_speed_at_wall_temperature * f.temperature.sqrt());
+            longest = longest.max(time_step / collision_time);
+        }
+    }
+    (widest, longest)
 }
 
 /// The steady rule's traces of one record.
