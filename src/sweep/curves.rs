@@ -57,6 +57,10 @@ pub struct CurvePlot {
     pub x: String,
     pub y: String,
     pub by: Option<String>,
+    /// the x axis label: symbol, unit and key, e.g. "Kn (knudsen_number)"
+    pub x_label: String,
+    /// the symbol the legend names the curves by, e.g. "e_n" (the key when it has none)
+    pub by_symbol: Option<String>,
     pub log_x: bool,
     pub log_y: bool,
     pub series: Vec<Series>,
@@ -212,10 +216,16 @@ impl CurvePlot {
                 Some(Series { name, points })
             })
             .collect();
+        let symbol_of = |name: &str| match engine.param(name) {
+            Some(d) if d.symbol != "-" && !d.symbol.is_empty() => d.symbol.to_string(),
+            _ => name.to_string(),
+        };
         Ok(CurvePlot {
             x: x.into(),
             y: y.into(),
             by: by.map(str::to_string),
+            x_label: super::phase::axis_label(engine, x),
+            by_symbol: by.map(symbol_of),
             log_x: false,
             log_y: false,
             series,
@@ -333,8 +343,13 @@ impl CurvePlot {
         root.fill(&WHITE)?;
         let ((x0, x1), (y0, y1)) = self.ranges();
         let caption = match &self.by {
-            Some(by) => format!("{} over {} by {by}", self.y, self.x),
-            None => format!("{} over {}", self.y, self.x),
+            Some(by) => format!(
+                "{} over {} by {}",
+                self.y,
+                self.x_label,
+                self.by_symbol.as_deref().unwrap_or(by)
+            ),
+            None => format!("{} over {}", self.y, self.x_label),
         };
         // four coordinate kinds (linear or log on each axis) share one drawing routine
         macro_rules! chart {
@@ -347,7 +362,7 @@ impl CurvePlot {
                     .build_cartesian_2d($xr, $yr)?;
                 chart
                     .configure_mesh()
-                    .x_desc(self.x.clone())
+                    .x_desc(self.x_label.clone())
                     .y_desc(self.y.clone())
                     .label_style(("sans-serif", 13))
                     .draw()?;
@@ -385,7 +400,7 @@ impl CurvePlot {
                 .map(|p| (p.x, p.y))
                 .collect();
             let label = match &self.by {
-                Some(by) => format!("{by} = {}", s.name),
+                Some(by) => format!("{} = {}", self.by_symbol.as_deref().unwrap_or(by), s.name),
                 None => s.name.clone(),
             };
             chart
