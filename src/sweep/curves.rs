@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// One point of a curve: the mean over the jobs (seeds) at one x.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Point {
     pub x: f64,
     pub y: f64,
@@ -46,8 +46,8 @@ pub struct Minimum {
     /// the vertex of the parabola through it and its two neighbours (in log x on a log axis);
     /// None at an end of the curve
     pub vertex: Option<f64>,
-    /// inside the curve, and below the largest value on each side by more than twice the
-    /// combined standard error (or, without errors, by more than 1 %)
+    /// inside the curve, and below a value on each side by more than twice the combined
+    /// standard error (or, without errors, by more than 1 %)
     pub interior: bool,
 }
 
@@ -444,17 +444,21 @@ impl CurvePlot {
 }
 
 /// The minimum of a curve over its valid points (in increasing x); None without valid points.
+/// A curve has an *interior* minimum where some inner point lies below a point on each side
+/// by more than twice their combined standard error (a significant dip: the flow rate falls,
+/// then rises again, as in the thesis' "non-monotonic" region of Fig. 4.1); of such points the
+/// lowest is reported, even when the curve falls again later below it (a minimum followed by a
+/// maximum). Without one, the smallest value (then at an end or within the errors) is reported.
 pub fn minimum(points: &[Point], log_x: bool) -> Option<Minimum> {
     let pts: Vec<&Point> = points
         .iter()
         .filter(|p| p.valid && p.y.is_finite())
         .collect();
-    let (i, best) = pts
+    let (smallest, _) = pts
         .iter()
         .enumerate()
         .min_by(|a, b| a.1.y.total_cmp(&b.1.y))?;
-    let at_end = i == 0 || i + 1 == pts.len();
-    let clear_below = |side: &[&Point]| {
+    let clear_below = |best: &Point, side: &[&Point]| {
         side.iter().any(|p| {
             let e = (p.error * p.error + best.error * best.error).sqrt();
             let margin = if e.is_finite() && e > 0.0 {
@@ -465,7 +469,15 @@ pub fn minimum(points: &[Point], log_x: bool) -> Option<Minimum> {
             p.y - best.y > margin
         })
     };
-    let interior = !at_end && clear_below(&pts[..i]) && clear_below(&pts[i + 1..]);
+    let dip = (1..pts.len().saturating_sub(1))
+        .filter(|&i| clear_below(pts[i], &pts[..i]) && clear_below(pts[i], &pts[i + 1..]))
+        .min_by(|&a, &b| pts[a].y.total_cmp(&pts[b].y));
+    let (i, interior) = match dip {
+        Some(i) => (i, true),
+        None => (smallest, false),
+    };
+    let best = pts[i];
+    let at_end = i == 0 || i + 1 == pts.len();
     let vertex = if at_end {
         None
     } else {
@@ -488,9 +500,19 @@ pub fn minimum(points: &[Point], log_x: bool) -> Option<Minimum> {
     })
 }
 
+/// True when the curve rises to a significant interior maximum (the minimum rule applied to -y).
+fn has_interior_maximum(points: &[Point], log_x: bool) -> bool {
+    let flipped: Vec<Point> = points
+        .iter()
+        .map(|p| Point { y: -p.y, ..*p })
+        .collect();
+    minimum(&flipped, log_x).is_some_and(|m| m.interior)
+}
+
 /// The diagram of where `y` has an interior minimum along `along`, over the parameters `x`
 /// and `y_axis` (each cell: the jobs sharing its values, one curve per value of every other
-/// swept parameter merged by mean). Labels: "minimum" (an interior minimum), "monotonic"
+/// swept parameter merged by mean). Labels: "minimum" (an interior minimum), "maximum" (no
+/// minimum on the grid but an interior maximum: not monotonic), "monotonic"
 /// (none), "not-steady" (a point of the curve is not a result).
 pub fn minimum_diagram(
     engine: &EngineDef,
@@ -535,6 +557,9 @@ pub fn minimum_diagram(
         let label = match minimum(&points, log_along) {
             _ if !steady => "not-steady",
             Some(m) if m.interior => "minimum",
+            // no dip on the grid, yet a significant hump: not monotonic either (the flow rate
+            // rises to a maximum and falls; its minimum lies beyond the grid)
+            _ if has_interior_maximum(&points, log_along) => "maximum",
             _ => "monotonic",
         };
         diagram.cells.insert(
@@ -603,6 +628,27 @@ mod tests {
         let m = minimum(&pts, false).unwrap();
         assert_eq!(m.at, 5.0);
         assert!(!m.interior && m.vertex.is_none());
+    }
+
+    #[test]
+    fn a_minimum_followed_by_a_maximum_is_a_minimum() {
+        // the thesis' Fig. 4.1(b) shape: falls, rises to a maximum, falls below the dip again
+        let ys = [10.0, 8.0, 9.0, 9.5, 7.0];
+        let pts: Vec<Point> = ys
+            .iter()
+            .enumerate()
+            .map(|(i, &y)| p(i as f64 + 1.0, y, 0.05))
+            .collect();
+        let m = minimum(&pts, false).unwrap();
+        assert!(m.interior, "{m:?}");
+        assert_eq!(m.at, 2.0);
+        // the same shape with a dip inside the errors is monotonic in effect
+        let pts: Vec<Point> = [10.0, 8.0, 8.05, 7.5, 7.0]
+            .iter()
+            .enumerate()
+            .map(|(i, &y)| p(i as f64 + 1.0, y, 0.05))
+            .collect();
+        assert!(!minimum(&pts, false).unwrap().interior);
     }
 
     #[test]

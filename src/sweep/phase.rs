@@ -768,7 +768,7 @@ pub fn marker_colour(label: &str) -> RGBColor {
         "plug" | "steady" => RGBColor(31, 119, 180),
         "s-wave" | "density waves" | "minimum" => RGBColor(214, 39, 40),
         "slug" | "s-wave+slug" => RGBColor(44, 160, 44),
-        "wavy-slug" | "mixed" => RGBColor(255, 127, 14),
+        "wavy-slug" | "mixed" | "maximum" => RGBColor(255, 127, 14),
         "homogeneous" | "not-steady" | "no waves" | "monotonic" => RGBColor(120, 120, 120),
         _ => RGBColor(148, 103, 189),
     }
@@ -820,6 +820,10 @@ pub(crate) fn draw_marker<DB: DrawingBackend>(
         // DSMC minimum diagram: where a curve has an interior minimum, or none
         "minimum" => root.draw(&Polygon::new(
             vec![(x - r - 1, y - r), (x + r + 1, y - r), (x, y + r + 2)],
+            c.filled(),
+        )),
+        "maximum" => root.draw(&Polygon::new(
+            vec![(x, y - r - 2), (x - r - 1, y + r), (x + r + 1, y + r)],
             c.filled(),
         )),
         "monotonic" => root.draw(&Rectangle::new(
