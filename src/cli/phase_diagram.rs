@@ -3,7 +3,7 @@
 //! the grid of where column C has an interior minimum along parameter R.
 
 use super::source::SweepSource;
-use crate::sweep::phase::{Frame, PhaseDiagram, choose_axes, swept_in, title};
+use crate::sweep::phase::{Frame, PhaseDiagram, choose_axes, title};
 use crate::sweep::{BadInput, tables};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -102,10 +102,6 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
         args.along.as_deref(),
     )
     .map_err(BadInput)?;
-    let swept: Vec<&str> = swept_in(&sweep)
-        .into_iter()
-        .filter(|s| Some(*s) != args.along.as_deref())
-        .collect();
     let mut axes_shown: Vec<&str> = vec![x.as_str()];
     axes_shown.extend(y.as_deref());
     axes_shown.extend(args.along.as_deref());
@@ -124,10 +120,11 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
     }
     .map_err(BadInput)?;
     diagram.frame = frame;
-    let others: Vec<_> = swept
-        .iter()
-        .filter(|s| **s != x && Some(**s) != y.as_deref())
+    let shown: Vec<&str> = std::iter::once(x.as_str())
+        .chain(y.as_deref())
+        .chain(args.along.as_deref())
         .collect();
+    let others = crate::sweep::phase::varying_besides(&sweep, &shown);
     if !others.is_empty() {
         println!("note: {others:?} also vary; their jobs share cells (labels joined by /)");
     }

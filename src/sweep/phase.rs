@@ -207,6 +207,28 @@ impl Default for Frame {
 /// parameters (N and phi of EDMD) count only when the sweep itself varies them (not when they
 /// follow from the box).
 pub fn swept_in(sweep: &super::Sweep) -> Vec<&'static str> {
+    swept_in_all(sweep)
+}
+
+/// The swept parameters that vary independently of the shown `axes`: a parameter linked to a
+/// shown axis (H/d following W/d) moves with it, so its jobs never share a cell.
+pub fn varying_besides(sweep: &super::Sweep, axes: &[&str]) -> Vec<&'static str> {
+    swept_in_all(sweep)
+        .into_iter()
+        .filter(|name| !axes.contains(name) && !follows_an_axis(sweep, name, axes))
+        .collect()
+}
+
+/// True when `name` is linked to one of `axes` (`linked: [(param: name, follows: axis)]`).
+fn follows_an_axis(sweep: &super::Sweep, name: &str, axes: &[&str]) -> bool {
+    sweep
+        .spec
+        .linked
+        .iter()
+        .any(|l| l.param == name && axes.contains(&l.follows.as_str()))
+}
+
+fn swept_in_all(sweep: &super::Sweep) -> Vec<&'static str> {
     let Some(engine) = super::spec::engine_of(&sweep.spec) else {
         return Vec::new();
     };
@@ -745,6 +767,17 @@ pub fn title(sweep: &super::Sweep, axes: &[&str]) -> Vec<String> {
                 }
             }
             [] => {}
+            _ if follows_an_axis(sweep, d.name, axes) => {
+                let link = sweep.spec.linked.iter().find(|l| l.param == d.name);
+                if let Some(l) = link {
+                    let of = engine.param(&l.follows).map_or(l.follows.as_str(), |f| f.symbol);
+                    fixed.push(if l.factor == 1.0 {
+                        format!("{} = {of}", d.symbol)
+                    } else {
+                        format!("{} = {} {of}", d.symbol, l.factor)
+                    });
+                }
+            }
             _ => varying.push(d.symbol),
         }
     }
