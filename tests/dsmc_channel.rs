@@ -828,9 +828,8 @@ fn dsmc_and_edmd_cool_alike_at_low_density() {
     p.restitution = e;
     p.roughness = -1.0;
     let mut edmd = EdmdEngine::new(p).unwrap();
-    let temperature = |edmd: &mut EdmdEngine| {
-        2.0 * edmd.particles_now().translational_energy / (3.0 * n as f64)
-    };
+    let temperature =
+        |edmd: &mut EdmdEngine| 2.0 * edmd.particles_now().translational_energy / (3.0 * n as f64);
     let edmd_start = temperature(&mut edmd);
     let mut edmd_ratio = Vec::new();
     for &c in &checkpoints {

@@ -738,7 +738,10 @@ fn results_of_older_layouts_keep_their_checksums() {
     let read = store::read_result(&jd).expect("an older layout is not damage");
     assert_eq!(read.stop_reason, "");
     // (compared as text: the analysis holds NaN where a balance is not known, and NaN != NaN)
-    assert_eq!(format!("{:?}", read.analysis), format!("{:?}", written.analysis));
+    assert_eq!(
+        format!("{:?}", read.analysis),
+        format!("{:?}", written.analysis)
+    );
     // an edit of a value is damage
     let edited = older.replacen("particles: ", "particles: 1", 1);
     std::fs::write(&path, edited.trim_end_matches('\n')).unwrap();

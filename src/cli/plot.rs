@@ -44,7 +44,9 @@ pub fn run(args: PlotArgs) -> anyhow::Result<()> {
         .map_err(BadInput)?;
     plot.log_x = args.log_x;
     plot.log_y = args.log_y;
-    let shown: Vec<&str> = std::iter::once(args.x.as_str()).chain(by.as_deref()).collect();
+    let shown: Vec<&str> = std::iter::once(args.x.as_str())
+        .chain(by.as_deref())
+        .collect();
     let others = crate::sweep::phase::varying_besides(&sweep, &shown);
     if !others.is_empty() {
         println!("note: {others:?} also vary; their jobs are averaged into the same points");

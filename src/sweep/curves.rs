@@ -502,10 +502,7 @@ pub fn minimum(points: &[Point], log_x: bool) -> Option<Minimum> {
 
 /// True when the curve rises to a significant interior maximum (the minimum rule applied to -y).
 fn has_interior_maximum(points: &[Point], log_x: bool) -> bool {
-    let flipped: Vec<Point> = points
-        .iter()
-        .map(|p| Point { y: -p.y, ..*p })
-        .collect();
+    let flipped: Vec<Point> = points.iter().map(|p| Point { y: -p.y, ..*p }).collect();
     minimum(&flipped, log_x).is_some_and(|m| m.interior)
 }
 

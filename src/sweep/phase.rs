@@ -770,7 +770,9 @@ pub fn title(sweep: &super::Sweep, axes: &[&str]) -> Vec<String> {
             _ if follows_an_axis(sweep, d.name, axes) => {
                 let link = sweep.spec.linked.iter().find(|l| l.param == d.name);
                 if let Some(l) = link {
-                    let of = engine.param(&l.follows).map_or(l.follows.as_str(), |f| f.symbol);
+                    let of = engine
+                        .param(&l.follows)
+                        .map_or(l.follows.as_str(), |f| f.symbol);
                     fixed.push(if l.factor == 1.0 {
                         format!("{} = {of}", d.symbol)
                     } else {
