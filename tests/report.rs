@@ -239,19 +239,7 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
     );
 
     // the markers the diagram must show: the labels of its cells
-    let gathered = tables::collect(&sweep, &dirs);
-    let diagram = PhaseDiagram::build(
-        sweep.engine(),
-        &gathered,
-        "length_over_width",
-        Some("restitution"),
-    )
-    .unwrap();
-    let labels: Vec<String> = diagram
-        .cells
-        .values()
-        .filter_map(|c| c.verdict().map(|v| v.label))
-        .collect();
+    let labels = cell_labels(&sweep, &dirs);
     assert_eq!(labels.len(), 3, "three cells with done jobs: {labels:?}");
     drop(claim);
 
@@ -344,6 +332,23 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
 }
 
 /// PNG width and height from its header.
+/// The labels of the cells of the sweep's L/W x e diagram that hold a done job.
+fn cell_labels(sweep: &granflow::sweep::Sweep, dirs: &granflow::sweep::SweepDirs) -> Vec<String> {
+    let gathered = tables::collect(sweep, dirs);
+    let diagram = PhaseDiagram::build(
+        sweep.engine(),
+        &gathered,
+        "length_over_width",
+        Some("restitution"),
+    )
+    .unwrap();
+    diagram
+        .cells
+        .values()
+        .filter_map(|c| c.verdict().map(|v| v.label))
+        .collect()
+}
+
 fn png_size(path: &Path) -> (u32, u32) {
     let bytes = std::fs::read(path).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
@@ -418,22 +423,8 @@ fn phase_diagram_has_symbols_a_title_a_full_legend_and_a_size() {
     // every label in a cell has its legend entry
     let sweep = load_sweep(&file, &[]).unwrap();
     let dirs = sweep.results_dir(&results);
-    let gathered = tables::collect(&sweep, &dirs);
-    let diagram = PhaseDiagram::build(
-        sweep.engine(),
-        &gathered,
-        "length_over_width",
-        Some("restitution"),
-    )
-    .unwrap();
-    for cell in diagram.cells.values() {
-        if let Some(v) = cell.verdict() {
-            assert!(
-                texts.contains(&v.label),
-                "no legend for {}: {texts:?}",
-                v.label
-            );
-        }
+    for label in cell_labels(&sweep, &dirs) {
+        assert!(texts.contains(&label), "no legend for {label}: {texts:?}");
     }
     // bad sizes and an axis the sweep does not vary are refused (exit code 2)
     for bad in [

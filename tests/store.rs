@@ -33,34 +33,64 @@ fn files_named(dir: &Path, prefix: &str) -> Vec<String> {
         .collect()
 }
 
-#[test]
-fn misplaced_and_edited_files_are_detected_set_aside_and_recomputed() {
-    let dir = scratch("misplaced");
-    let file = dir.join("s.ron");
-    std::fs::write(
-        &file,
-        "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0, 3.0]), run: (collisions_per_particle: 200, snapshot_interval: 20))",
-    )
-    .unwrap();
-    let results = dir.join("results");
-    let run = |extra: &[&str]| {
+/// A sweep of three small EDMD jobs run once to the end: its job directories and each job's
+/// result in deterministic form (what a recomputation must reproduce).
+struct ThreeJobs {
+    file: PathBuf,
+    results: PathBuf,
+    /// the sweep's tables directory (what `status` reads)
+    tables: PathBuf,
+    job_dirs: Vec<PathBuf>,
+    good: Vec<String>,
+}
+
+impl ThreeJobs {
+    fn run(name: &str) -> ThreeJobs {
+        let dir = scratch(name);
+        let file = dir.join("s.ron");
+        std::fs::write(
+            &file,
+            "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0, 3.0]), run: (collisions_per_particle: 200, snapshot_interval: 20))",
+        )
+        .unwrap();
+        let mut three = ThreeJobs {
+            file,
+            results: dir.join("results"),
+            tables: PathBuf::new(),
+            job_dirs: Vec::new(),
+            good: Vec::new(),
+        };
+        assert!(three.run_again(&[]).status.success());
+        let sweep = load_sweep(&three.file, &[]).unwrap();
+        let dirs = sweep.results_dir(&three.results);
+        three.tables = dirs.tables.clone();
+        three.job_dirs = sweep.plan.iter().map(|j| dirs.job_dir(&j.id)).collect();
+        three.good = three
+            .job_dirs
+            .iter()
+            .map(|d| deterministic(store::read_result(d).unwrap()))
+            .collect();
+        three
+    }
+
+    /// `granflow run` of the sweep with `extra` arguments.
+    fn run_again(&self, extra: &[&str]) -> std::process::Output {
         let mut args = vec![
             "run",
-            file.to_str().unwrap(),
+            self.file.to_str().unwrap(),
             "--results",
-            results.to_str().unwrap(),
+            self.results.to_str().unwrap(),
         ];
         args.extend_from_slice(extra);
         granflow(&args)
-    };
-    assert!(run(&[]).status.success());
-    let sweep = load_sweep(&file, &[]).unwrap();
-    let dirs = sweep.results_dir(&results);
-    let jd: Vec<PathBuf> = sweep.plan.iter().map(|j| dirs.job_dir(&j.id)).collect();
-    let good: Vec<String> = jd
-        .iter()
-        .map(|d| deterministic(store::read_result(d).unwrap()))
-        .collect();
+    }
+}
+
+#[test]
+fn misplaced_and_edited_files_are_detected_set_aside_and_recomputed() {
+    let sweep = ThreeJobs::run("misplaced");
+    let (jd, good) = (sweep.job_dirs.clone(), sweep.good.clone());
+    let run = |extra: &[&str]| sweep.run_again(extra);
 
     // job 1 gets job 0's result; job 2's result is edited; job 0 gets job 2's checkpoint
     std::fs::copy(
@@ -79,7 +109,7 @@ fn misplaced_and_edited_files_are_detected_set_aside_and_recomputed() {
     )
     .unwrap();
 
-    let status = granflow(&["status", dirs.tables.to_str().unwrap()]);
+    let status = granflow(&["status", sweep.tables.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&status.stdout);
     assert!(text.contains("damaged 3"), "{text}");
     assert!(text.contains("belongs to job"), "{text}");
@@ -476,32 +506,9 @@ fn a_full_disk_stops_the_run_and_leaves_jobs_resumable() {
 /// scratch, to the result it had before.
 #[test]
 fn damaged_checkpoints_and_record_logs_are_set_aside_and_recomputed() {
-    let dir = scratch("damaged");
-    let file = dir.join("s.ron");
-    std::fs::write(
-        &file,
-        "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0, 3.0]), run: (collisions_per_particle: 200, snapshot_interval: 20))",
-    )
-    .unwrap();
-    let results = dir.join("results");
-    let run = |extra: &[&str]| {
-        let mut args = vec![
-            "run",
-            file.to_str().unwrap(),
-            "--results",
-            results.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        granflow(&args)
-    };
-    assert!(run(&[]).status.success());
-    let sweep = load_sweep(&file, &[]).unwrap();
-    let dirs = sweep.results_dir(&results);
-    let jd: Vec<PathBuf> = sweep.plan.iter().map(|j| dirs.job_dir(&j.id)).collect();
-    let good: Vec<String> = jd
-        .iter()
-        .map(|d| deterministic(store::read_result(d).unwrap()))
-        .collect();
+    let sweep = ThreeJobs::run("damaged");
+    let (jd, good) = (sweep.job_dirs.clone(), sweep.good.clone());
+    let run = |extra: &[&str]| sweep.run_again(extra);
     for d in &jd {
         std::fs::remove_file(d.join(store::RESULT_FILE)).unwrap();
     }
@@ -518,7 +525,7 @@ fn damaged_checkpoints_and_record_logs_are_set_aside_and_recomputed() {
     log2[mid] ^= 0x40;
     std::fs::write(jd[2].join(store::RECORDS_FILE), &log2).unwrap();
 
-    let status = granflow(&["status", dirs.tables.to_str().unwrap()]);
+    let status = granflow(&["status", sweep.tables.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&status.stdout);
     assert!(text.contains("damaged 2"), "{text}");
 

@@ -280,14 +280,7 @@ fn jobs_table(h: &mut String, sweep: &Sweep, views: &[JobView]) {
             fraction.map_or(String::new(), |f| format!("{:.0} %", 100.0 * f))
         );
         let summary = v.analysis.as_ref().map(|a| a.summary()).unwrap_or_default();
-        let label = v
-            .analysis
-            .as_ref()
-            .map(|a| {
-                let (l, humps) = a.label();
-                crate::analysis::labels::label_key(l, humps)
-            })
-            .unwrap_or_default();
+        let label = v.label();
         let (open, close) = if v.provisional() {
             ("<i>", "</i>")
         } else {
@@ -330,14 +323,7 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
     let dir = dirs.job_dir(&job.id);
     let state = &v.gathered.state;
     let point = point_text(engine, &job.params, &swept_in(sweep));
-    let label = v
-        .analysis
-        .as_ref()
-        .map(|a| {
-            let (l, humps) = a.label();
-            crate::analysis::labels::label_key(l, humps)
-        })
-        .unwrap_or_default();
+    let label = v.label();
     let _ = write!(
         h,
         "<section class=\"job\" id=\"job-{}\">\n<h2>[{}] {} <span class=\"state-{}\">{}</span> {}</h2>\n",

@@ -40,6 +40,17 @@ impl JobView<'_> {
     pub fn provisional(&self) -> bool {
         self.gathered.result.is_none() && self.analysis.is_some()
     }
+
+    /// The structure label with its humps (e.g. "s-wave(2)"), empty without an analysis.
+    pub fn label(&self) -> String {
+        self.analysis
+            .as_ref()
+            .map(|a| {
+                let (l, humps) = a.label();
+                crate::analysis::labels::label_key(l, humps)
+            })
+            .unwrap_or_default()
+    }
 }
 
 /// The phase diagram the report shows: the picture and its text table.
