@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{BIN, scratch};
+use common::{BIN, granflow_ok, scratch};
 use granflow::report::job_figures;
 use granflow::sweep::execute::{self, JobEnd};
 use granflow::sweep::phase::{PhaseDiagram, marker_colour};
@@ -124,17 +124,14 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
     let file = dir.join("tiny.ron");
     std::fs::write(&file, SWEEP).unwrap();
     let results = dir.join("results");
-    let out = Command::new(BIN)
-        .args(["run", file.to_str().unwrap(), "--results"])
-        .arg(&results)
-        .args(["--job-range", "0:3"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    granflow_ok(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+        "--job-range",
+        "0:3",
+    ]);
 
     // the fourth job runs: claimed (as a live runner holds it) and stopped after 5 snapshots
     let sweep = load_sweep(&file, &[]).unwrap();
@@ -148,17 +145,7 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
         other => panic!("the job ended early: {other:?}"),
     }
 
-    let out = Command::new(BIN)
-        .arg("report")
-        .arg(&dirs.tables)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = granflow_ok(&["report", dirs.tables.to_str().unwrap()]);
     let report: PathBuf = dirs.tables.join("report.html");
     assert!(
         stdout.contains(&format!("report: {}", report.display())),
@@ -364,15 +351,10 @@ fn phase_diagram_has_symbols_a_title_a_full_legend_and_a_size() {
     let results = dir.join("results");
     let granflow = |args: &[&str]| Command::new(BIN).args(args).output().unwrap();
     let (f, r) = (file.to_str().unwrap(), results.to_str().unwrap());
-    let out = granflow(&["run", f, "--results", r, "--job-range", "0:3"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    granflow_ok(&["run", f, "--results", r, "--job-range", "0:3"]);
     let tables = results.join("tiny");
     let t = tables.to_str().unwrap();
-    let out = granflow(&[
+    let text = granflow_ok(&[
         "phase-diagram",
         t,
         "--width",
@@ -382,13 +364,7 @@ fn phase_diagram_has_symbols_a_title_a_full_legend_and_a_size() {
         "--dpi",
         "192",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     // the printed table stays as it was: rows e, columns L/W
-    let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         text.lines()
             .any(|l| l.starts_with("restitution \\ length_over_width")),

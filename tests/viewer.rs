@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{BIN, scratch};
+use common::{BIN, granflow_ok, scratch};
 use granflow::analysis::fields::{Fields, Grid};
 use granflow::analysis::{AnalysisSettings, SnapshotNames, write_vtk_density, write_xyz};
 use granflow::engine::{BoxGeometry, Clock, Content, Counters, Particles, Progress, Snapshot};
@@ -394,35 +394,27 @@ fn xyz_numbers(path: &Path) -> Vec<Vec<f64>> {
 fn sim_writes_files_that_ase_and_meshio_read() {
     let dir = scratch("viewer-sim");
     let (xyz, vtk) = (dir.join("xyz"), dir.join("vtk"));
-    let out = Command::new(BIN)
-        .args([
-            "sim",
-            "--length-over-width",
-            "2",
-            "--width-over-diameter",
-            "6",
-            "--height-over-diameter",
-            "5",
-            "--volume-fraction",
-            "0.1",
-            "--collisions-per-particle",
-            "20",
-            "--report-every",
-            "10",
-            "--grid",
-            "4,3,3",
-            "--xyz",
-            xyz.to_str().unwrap(),
-            "--vtk",
-            vtk.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    granflow_ok(&[
+        "sim",
+        "--length-over-width",
+        "2",
+        "--width-over-diameter",
+        "6",
+        "--height-over-diameter",
+        "5",
+        "--volume-fraction",
+        "0.1",
+        "--collisions-per-particle",
+        "20",
+        "--report-every",
+        "10",
+        "--grid",
+        "4,3,3",
+        "--xyz",
+        xyz.to_str().unwrap(),
+        "--vtk",
+        vtk.to_str().unwrap(),
+    ]);
     // the initial snapshot (t = 0) and one per report, named by collisions per particle
     let listing = |d: &Path| {
         let mut names: Vec<String> = std::fs::read_dir(d)
