@@ -33,6 +33,22 @@ fn files_named(dir: &Path, prefix: &str) -> Vec<String> {
         .collect()
 }
 
+/// Write the sweep `text` as `dir/name` and run it to the end (into `dir/results`); the sweep
+/// file and the results root.
+fn run_to_the_end(dir: &Path, name: &str, text: &str) -> (PathBuf, PathBuf) {
+    let file = dir.join(name);
+    std::fs::write(&file, text).unwrap();
+    let results = dir.join("results");
+    let out = granflow(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    (file, results)
+}
+
 /// A sweep of three small EDMD jobs run once to the end: its job directories and each job's
 /// result in deterministic form (what a recomputation must reproduce).
 struct ThreeJobs {
@@ -46,21 +62,18 @@ struct ThreeJobs {
 
 impl ThreeJobs {
     fn run(name: &str) -> ThreeJobs {
-        let dir = scratch(name);
-        let file = dir.join("s.ron");
-        std::fs::write(
-            &file,
+        let (file, results) = run_to_the_end(
+            &scratch(name),
+            "s.ron",
             "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0, 3.0]), run: (collisions_per_particle: 200, snapshot_interval: 20))",
-        )
-        .unwrap();
+        );
         let mut three = ThreeJobs {
             file,
-            results: dir.join("results"),
+            results,
             tables: PathBuf::new(),
             job_dirs: Vec::new(),
             good: Vec::new(),
         };
-        assert!(three.run_again(&[]).status.success());
         let sweep = load_sweep(&three.file, &[]).unwrap();
         let dirs = sweep.results_dir(&three.results);
         three.tables = dirs.tables.clone();
@@ -179,20 +192,11 @@ fn table_sets(dir: &Path, names: &[&str]) -> Vec<String> {
 #[test]
 fn tables_are_always_one_consistent_set() {
     let dir = scratch("tables");
-    let file = dir.join("t.ron");
-    std::fs::write(
-        &file,
+    let (_file, results) = run_to_the_end(
+        &dir,
+        "t.ron",
         "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), run: (collisions_per_particle: 400, snapshot_interval: 5))",
-    )
-    .unwrap();
-    let results = dir.join("results");
-    let out = granflow(&[
-        "run",
-        file.to_str().unwrap(),
-        "--results",
-        results.to_str().unwrap(),
-    ]);
-    assert!(out.status.success());
+    );
     let tables = results.join("t");
     let names = ["jobs", "spectra", "profiles", "energy"];
     let first = table_sets(&tables, &names);
@@ -625,20 +629,11 @@ fn checkpoint_size_does_not_grow_with_the_run() {
 #[test]
 fn results_and_logs_carry_their_provenance() {
     let dir = scratch("provenance");
-    let file = dir.join("s.ron");
-    std::fs::write(
-        &file,
+    let (file, results) = run_to_the_end(
+        &dir,
+        "s.ron",
         "(engine: \"edmd\", fixed: (length_over_width: 1.0, width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n run: (collisions_per_particle: 100, snapshot_interval: 20))",
-    )
-    .unwrap();
-    let results = dir.join("results");
-    let out = granflow(&[
-        "run",
-        file.to_str().unwrap(),
-        "--results",
-        results.to_str().unwrap(),
-    ]);
-    assert!(out.status.success());
+    );
     let sweep = load_sweep(&file, &[]).unwrap();
     let jd = sweep.results_dir(&results).job_dir(&sweep.plan[0].id);
     let p = store::read_result(&jd).unwrap().provenance;
@@ -707,20 +702,11 @@ fn results_and_logs_carry_their_provenance() {
 #[test]
 fn results_of_older_layouts_keep_their_checksums() {
     let dir = scratch("layouts");
-    let file = dir.join("s.ron");
-    std::fs::write(
-        &file,
+    let (file, results) = run_to_the_end(
+        &dir,
+        "s.ron",
         "(engine: \"edmd\", fixed: (length_over_width: 1.0, width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n run: (collisions_per_particle: 100, snapshot_interval: 20))",
-    )
-    .unwrap();
-    let results = dir.join("results");
-    let out = granflow(&[
-        "run",
-        file.to_str().unwrap(),
-        "--results",
-        results.to_str().unwrap(),
-    ]);
-    assert!(out.status.success());
+    );
     let sweep = load_sweep(&file, &[]).unwrap();
     let jd = sweep.results_dir(&results).job_dir(&sweep.plan[0].id);
     let path = jd.join(store::RESULT_FILE);
