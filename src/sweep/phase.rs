@@ -203,17 +203,10 @@ impl Default for Frame {
     }
 }
 
-/// Parameters that take more than one value over the jobs (the ones worth plotting). Derived
-/// parameters (N and phi of EDMD) count only when the sweep itself varies them (not when they
-/// follow from the box).
-pub fn swept_in(sweep: &super::Sweep) -> Vec<&'static str> {
-    swept_in_all(sweep)
-}
-
 /// The swept parameters that vary independently of the shown `axes`: a parameter linked to a
 /// shown axis (H/d following W/d) moves with it, so its jobs never share a cell.
 pub fn varying_besides(sweep: &super::Sweep, axes: &[&str]) -> Vec<&'static str> {
-    swept_in_all(sweep)
+    swept_in(sweep)
         .into_iter()
         .filter(|name| !axes.contains(name) && !follows_an_axis(sweep, name, axes))
         .collect()
@@ -228,7 +221,10 @@ fn follows_an_axis(sweep: &super::Sweep, name: &str, axes: &[&str]) -> bool {
         .any(|l| l.param == name && axes.contains(&l.follows.as_str()))
 }
 
-fn swept_in_all(sweep: &super::Sweep) -> Vec<&'static str> {
+/// Parameters that take more than one value over the jobs (the ones worth plotting). Derived
+/// parameters (N and phi of EDMD) count only when the sweep itself varies them (not when they
+/// follow from the box).
+pub fn swept_in(sweep: &super::Sweep) -> Vec<&'static str> {
     let Some(engine) = super::spec::engine_of(&sweep.spec) else {
         return Vec::new();
     };
