@@ -159,7 +159,7 @@ pub struct SnapshotRecord {
     pub tc_elastic_collisions: u64,
 }
 
-fn nan() -> f64 {
+pub(crate) fn nan() -> f64 {
     f64::NAN
 }
 

@@ -152,17 +152,12 @@ pub struct RarefiedSummary {
     /// largest layer-cell width over the local mean free path, max_y Delta y / lambda(y) with
     /// lambda(y) = lambda n_avg / n(y) over the window (Bird's rule: at most 1/3; the a priori
     /// cell choice meets it at the mean density, clustering can break it)
-    #[serde(default = "not_known")]
+    #[serde(default = "crate::analysis::nan")]
     pub cell_width_over_mean_free_path: f64,
     /// largest time step over the local mean collision time, max_y dt / tau(y) with
     /// tau(y) = lambda(y) / sqrt(8 k T(y) / (pi m_1)) over the window (should stay well below 1)
-    #[serde(default = "not_known")]
+    #[serde(default = "crate::analysis::nan")]
     pub time_step_over_collision_time: f64,
-}
-
-/// NaN: a quantity that results written before it existed do not carry.
-fn not_known() -> f64 {
-    f64::NAN
 }
 
 impl RarefiedSummary {
@@ -475,6 +470,9 @@ pub fn analyse(
             (b.work - heat - b.dissipated - stored).abs() / scale
         })
         .fold(0.0, f64::max);
+    let time_step = whole.duration / (whole.steps as f64).max(1.0);
+    let (cell_width_over_mean_free_path, time_step_over_collision_time) =
+        resolution(&whole_fields, &sc, time_step);
     let summary = RarefiedSummary {
         steady: window.steady,
         reason: window.reason,
@@ -502,37 +500,35 @@ pub fn analyse(
         species_velocity_difference: est(16),
         density_segregation: est(17),
         species_segregation: est(18),
-        cell_width_over_mean_free_path: f64::NAN,
-        time_step_over_collision_time: f64::NAN,
-    };
-    let time_step = whole.duration / (whole.steps as f64).max(1.0);
-    let (cell_width_over_mean_free_path, time_step_over_collision_time) =
-        resolution(&whole_fields, &sc, time_step);
-    let summary = RarefiedSummary {
         cell_width_over_mean_free_path,
         time_step_over_collision_time,
-        ..summary
     };
     let profiles = profile_rows(&whole_fields, &block_fields, &sc, value.centre_temperature);
     Ok(RarefiedAnalysis { summary, profiles })
 }
 
+/// lambda(y) / W = Kn n_avg / n(y), the a priori mean free path scaled by the local number
+/// density (Kn_y of eq. 3.25; in a mixture with the diameter of species 1); infinite in an
+/// empty cell.
+fn local_mean_free_path(f: &CellFields, sc: &Scales) -> f64 {
+    sc.knudsen_number / (f.species_density[0] + f.species_density[1])
+}
+
 /// How finely the run resolved the gas where it is densest and hottest: the largest cell width
 /// over the local mean free path and the largest time step over the local mean collision
-/// time, (max_y Delta y / lambda(y), max_y dt / tau(y)). lambda(y) = Kn W n_avg / n(y) (the
-/// a priori lambda scaled by the local number density; in a mixture with the diameter of
-/// species 1), tau(y) = lambda(y) / sqrt(8 k T(y) / (pi m_1)). Empty cells do not count.
+/// time, (max_y Delta y / lambda(y), max_y dt / tau(y)), lambda(y) from
+/// [`local_mean_free_path`], tau(y) = lambda(y) / sqrt(8 k T(y) / (pi m_1)). Empty cells do
+/// not count.
 fn resolution(fields: &[CellFields], sc: &Scales, time_step: f64) -> (f64, f64) {
     let width = 1.0 / sc.cells as f64;
     let mean_speed_at_wall_temperature = (8.0 / std::f64::consts::PI).sqrt();
     let mut widest: f64 = 0.0;
     let mut longest: f64 = 0.0;
     for f in fields {
-        let number_density = f.species_density[0] + f.species_density[1];
-        if !(number_density > 0.0) {
-            continue;
+        let mean_free_path = local_mean_free_path(f, sc);
+        if !mean_free_path.is_finite() {
+            continue; // an empty cell
         }
-        let mean_free_path = sc.knudsen_number / number_density;
         widest = widest.max(width / mean_free_path);
         if f.temperature.is_finite() && f.temperature > 0.0 {
             let collision_time =
@@ -714,7 +710,7 @@ fn profile_rows(
             qy_error: err(c, |f| f.qy),
             n1: f.n1(),
             n2: f.n2(),
-            local_knudsen: sc.knudsen_number / (f.species_density[0] + f.species_density[1]),
+            local_knudsen: local_mean_free_path(f, sc),
             species1_density: f.species_density[0],
             species2_density: second(f.species_density),
             species1_temperature: f.species_temperature[0],
