@@ -216,16 +216,12 @@ impl CurvePlot {
                 Some(Series { name, points })
             })
             .collect();
-        let symbol_of = |name: &str| match engine.param(name) {
-            Some(d) if d.symbol != "-" && !d.symbol.is_empty() => d.symbol.to_string(),
-            _ => name.to_string(),
-        };
         Ok(CurvePlot {
             x: x.into(),
             y: y.into(),
             by: by.map(str::to_string),
             x_label: super::phase::axis_label(engine, x),
-            by_symbol: by.map(symbol_of),
+            by_symbol: by.map(|b| super::phase::symbol_of(engine, b)),
             log_x: false,
             log_y: false,
             series,

@@ -698,12 +698,25 @@ fn wrap(text: &str, chars: usize) -> Vec<String> {
 /// "L/W (length_over_width)", "t_c [sqrt(d/g)] (tc)".
 pub fn axis_label(engine: &EngineDef, name: &str) -> String {
     match engine.param(name) {
-        Some(d) if d.symbol != "-" && !d.symbol.is_empty() => match d.unit {
+        Some(d) if has_symbol(d.symbol) => match d.unit {
             "1" | "-" | "" => format!("{} ({name})", d.symbol),
             unit => format!("{} [{unit}] ({name})", d.symbol),
         },
         _ => name.to_string(),
     }
+}
+
+/// A parameter's symbol (e.g. "e_n"), or its key when it has none.
+pub fn symbol_of(engine: &EngineDef, name: &str) -> String {
+    match engine.param(name) {
+        Some(d) if has_symbol(d.symbol) => d.symbol.to_string(),
+        _ => name.to_string(),
+    }
+}
+
+/// Declarations write "-" (or nothing) for a parameter without a symbol.
+fn has_symbol(symbol: &str) -> bool {
+    symbol != "-" && !symbol.is_empty()
 }
 
 /// The title of a diagram of `sweep` over `axes`: the sweep, its engine, jobs and run length;
@@ -766,9 +779,7 @@ pub fn title(sweep: &super::Sweep, axes: &[&str]) -> Vec<String> {
             _ if follows_an_axis(sweep, d.name, axes) => {
                 let link = sweep.spec.linked.iter().find(|l| l.param == d.name);
                 if let Some(l) = link {
-                    let of = engine
-                        .param(&l.follows)
-                        .map_or(l.follows.as_str(), |f| f.symbol);
+                    let of = symbol_of(engine, &l.follows);
                     fixed.push(if l.factor == 1.0 {
                         format!("{} = {of}", d.symbol)
                     } else {
