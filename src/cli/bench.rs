@@ -236,6 +236,17 @@ fn workloads(args: &BenchArgs) -> Vec<Workload> {
     // the fcc lattice of the periodic workloads melts within a collision or two
     let melt = 2.0;
     vec![
+        // small boxes: most of a sweep's jobs are channels of 600-5000 spheres
+        Workload {
+            name: "periodic-fcc-4k-phi0.15",
+            params: periodic_fcc(4_000, 0.15),
+            warmup: melt,
+        },
+        Workload {
+            name: "periodic-fcc-4k-phi0.40",
+            params: periodic_fcc(4_000, 0.40),
+            warmup: melt,
+        },
         Workload {
             name: "periodic-fcc-32k-phi0.15",
             params: periodic_fcc(32_000, 0.15),

@@ -2,6 +2,7 @@
 //! earliest pair contact among the spheres of its own and adjacent cells.
 
 use super::*;
+use crate::engine::edmd::motion::PairApproach;
 
 impl EdmdEngine {
     /// Earliest event of particle `i` (whose state is at `now`) after a full search: leaving its
@@ -133,6 +134,13 @@ impl EdmdEngine {
 
     /// Update `best` (contact before `now + best_dt`) with the given partners of particle `i`,
     /// each in its periodic image.
+    ///
+    /// Two passes over chunks of partners: the first computes b = r.v, the gap |r|^2 - d^2 and
+    /// |v|^2 of every pair and keeps, without a branch, those that approach (b < 0) soon enough
+    /// (gap <= -2 b t_max) for the horizon at the chunk's start; the second takes the square
+    /// root only for those. A later horizon is never longer, so the second pass (the whole
+    /// test of [`pair_contact_time_within`] on the kept pairs, in their order) decides exactly
+    /// as testing every pair would, bit for bit.
     #[inline(always)]
     pub(super) fn earliest_among(
         &self,
@@ -141,31 +149,44 @@ impl EdmdEngine {
         best: &mut PairCandidate,
         best_dt: &mut f64,
     ) {
+        const CHUNK: usize = 32;
         let me = &self.kin[i];
         let g = self.params.gravity;
-        for (j, image) in partners {
-            let other = &self.kin[j as usize];
-            let shift = &self.image_shifts[image.index()];
-            // partner brought to `now` on the fly (its stored state is not touched)
-            let (rj, cj) = fly(other.position, other.velocity, g, self.now - other.time);
-            let r = [
-                me.position[0] - (rj[0] + shift[0]),
-                me.position[1] - (rj[1] + shift[1]),
-                me.position[2] - (rj[2] + shift[2]),
-            ];
-            let v = [
-                me.velocity[0] - cj[0],
-                me.velocity[1] - cj[1],
-                me.velocity[2] - cj[2],
-            ];
-            let dt = pair_contact_time_within(r, v, *best_dt);
-            if dt < *best_dt {
-                *best_dt = dt;
-                *best = PairCandidate {
-                    time: self.now + dt,
-                    partner: j,
-                    partner_collisions: other.collisions,
-                };
+        let mut partners = partners.peekable();
+        while partners.peek().is_some() {
+            // (pair, partner, partner's collision counter)
+            let mut kept = [(PairApproach::default(), 0u32, 0u32); CHUNK];
+            let mut count = 0;
+            let horizon = *best_dt;
+            for (j, image) in partners.by_ref().take(CHUNK) {
+                let other = &self.kin[j as usize];
+                let shift = &self.image_shifts[image.index()];
+                // partner brought to `now` on the fly (its stored state is not touched)
+                let (rj, cj) = fly(other.position, other.velocity, g, self.now - other.time);
+                let r = [
+                    me.position[0] - (rj[0] + shift[0]),
+                    me.position[1] - (rj[1] + shift[1]),
+                    me.position[2] - (rj[2] + shift[2]),
+                ];
+                let v = [
+                    me.velocity[0] - cj[0],
+                    me.velocity[1] - cj[1],
+                    me.velocity[2] - cj[2],
+                ];
+                let pair = PairApproach::new(r, v);
+                kept[count] = (pair, j, other.collisions);
+                count += pair.may_touch_within(horizon) as usize;
+            }
+            for &(pair, partner, partner_collisions) in &kept[..count] {
+                let dt = pair.contact_time_within(*best_dt);
+                if dt < *best_dt {
+                    *best_dt = dt;
+                    *best = PairCandidate {
+                        time: self.now + dt,
+                        partner,
+                        partner_collisions,
+                    };
+                }
             }
         }
     }

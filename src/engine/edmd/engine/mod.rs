@@ -7,7 +7,7 @@ use super::EdmdParams;
 use super::cells::{AxisCells, CellGrid, Neighbourhood};
 use super::checkpoint::{self, EdmdCounters, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
-use super::motion::{fly, linear_exit_time_within, pair_contact_time_within, parabolic_exit_time};
+use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::prefetch::prefetch;
 use super::queue::{CalendarQueue, EventQueue};
