@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::engine::edmd::motion::PairApproach;
+use std::mem::MaybeUninit;
 
 impl EdmdEngine {
     /// Earliest event of particle `i` (whose state is at `now`) after a full search: leaving its
@@ -154,8 +155,9 @@ impl EdmdEngine {
         let g = self.params.gravity;
         let mut partners = partners.peekable();
         while partners.peek().is_some() {
-            // (pair, partner, partner's collision counter)
-            let mut kept = [(PairApproach::default(), 0u32, 0u32); CHUNK];
+            // (pair, partner, partner's collision counter); left uninitialised (zeroing it
+            // cost a memset per chunk), only the first `count` entries are ever read
+            let mut kept = [const { MaybeUninit::<(PairApproach, u32, u32)>::uninit() }; CHUNK];
             let mut count = 0;
             let horizon = *best_dt;
             for (j, image) in partners.by_ref().take(CHUNK) {
@@ -174,10 +176,13 @@ impl EdmdEngine {
                     me.velocity[2] - cj[2],
                 ];
                 let pair = PairApproach::new(r, v);
-                kept[count] = (pair, j, other.collisions);
+                kept[count].write((pair, j, other.collisions));
                 count += pair.may_touch_within(horizon) as usize;
             }
-            for &(pair, partner, partner_collisions) in &kept[..count] {
+            for entry in &kept[..count] {
+                // SAFETY: entries 0..count were written above (the entry at `count` is
+                // written before `count` can move past it)
+                let (pair, partner, partner_collisions) = unsafe { entry.assume_init_read() };
                 let dt = pair.contact_time_within(*best_dt);
                 if dt < *best_dt {
                     *best_dt = dt;

@@ -96,9 +96,6 @@ impl EdmdEngine {
             &around,
             |first| prefetch(&self.anchors[first as usize]),
             |j, image| {
-                if j as usize == i || (higher_only && (j as usize) < i) {
-                    return;
-                }
                 let b = self.anchors[j as usize];
                 let shift = self.image_shifts[image.index()];
                 let d = [
@@ -106,9 +103,14 @@ impl EdmdEngine {
                     a[1] - (b[1] + shift[1]),
                     a[2] - (b[2] + shift[2]),
                 ];
-                if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach {
-                    found.push(Neighbour::new(j, image));
-                }
+                // whether an anchor is within reach is a coin flip: the entry is written
+                // always and kept by advancing the length, without a branch
+                let near = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach;
+                let wanted = (j as usize != i) & (!higher_only | (j as usize > i));
+                found.reserve(1);
+                found.spare_capacity_mut()[0].write(Neighbour::new(j, image));
+                // SAFETY: the entry at the old length was just written (capacity reserved)
+                unsafe { found.set_len(found.len() + (near & wanted) as usize) };
             },
         );
     }
