@@ -115,7 +115,7 @@ impl NeighbourLists {
         }
         for k in 0..len {
             let old = Neighbour(self.words[start + 1 + k]);
-            if !new.contains(&old) {
+            if !holds(new.iter().map(|e| e.0), old.0) {
                 self.remove(old.slot() as usize, old.back_to(i));
             }
         }
@@ -123,7 +123,10 @@ impl NeighbourLists {
         for &entry in new {
             let start = i as usize * self.stride;
             let len = self.words[start] as usize;
-            if !self.words[start + 1..start + 1 + len].contains(&entry.0) {
+            if !holds(
+                self.words[start + 1..start + 1 + len].iter().copied(),
+                entry.0,
+            ) {
                 self.push(entry.slot() as usize, entry.back_to(i));
             }
         }
@@ -174,6 +177,14 @@ impl NeighbourLists {
         self.stride = stride;
         self.words = words;
     }
+}
+
+/// Whether `list` holds `word`, comparing every entry: where in a list a neighbour sits is
+/// random, so an early exit would be a mispredicted branch per look-up, while the full
+/// comparison of a short list is a few vector instructions.
+#[inline(always)]
+fn holds(list: impl Iterator<Item = u32>, word: u32) -> bool {
+    list.fold(false, |found, w| found | (w == word))
 }
 
 #[cfg(test)]
