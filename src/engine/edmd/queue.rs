@@ -118,6 +118,9 @@ pub struct CalendarQueue {
     heap: Vec<u32>,
     /// bucket width (time)
     width: f64,
+    /// 1 / width: a bucket index is a product, not a division (any monotonic map of time to
+    /// buckets keeps the pop order exact; only the same map must be used everywhere)
+    inverse_width: f64,
     /// absolute index (floor(t / width)) of the bucket whose events are in the heap
     current: i64,
     /// absolute index of the first bucket of the current year
@@ -133,7 +136,8 @@ impl CalendarQueue {
     /// its absolute index, not a division).
     pub fn new(particles: usize, buckets: usize, width: f64, now: f64) -> Self {
         assert!(buckets > 0 && width > 0.0 && width.is_finite());
-        let current = (now / width).floor() as i64;
+        let inverse_width = 1.0 / width;
+        let current = (now * inverse_width).floor() as i64;
         CalendarQueue {
             node: vec![Node::EMPTY; particles],
             links: vec![
@@ -147,6 +151,7 @@ impl CalendarQueue {
             overflow_head: NIL,
             heap: Vec::with_capacity(64),
             width,
+            inverse_width,
             current,
             year_start: current,
             in_buckets: 0,
@@ -165,11 +170,11 @@ impl CalendarQueue {
         std::mem::size_of::<Node>() + std::mem::size_of::<Link>() + 4
     }
 
-    /// Absolute index floor(t / width) of the bucket of time `t` (truncation, corrected below
+    /// Absolute index floor(t / width) (as t times 1 / width) of the bucket of time `t` (truncation, corrected below
     /// zero: no call to `floor`).
     #[inline(always)]
     fn bucket_of(&self, time: f64) -> i64 {
-        let t = time / self.width;
+        let t = time * self.inverse_width;
         let k = t as i64;
         k - ((k as f64) > t) as i64
     }
