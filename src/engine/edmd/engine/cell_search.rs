@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::engine::edmd::motion::PairApproach;
-use std::mem::MaybeUninit;
+use crate::engine::edmd::search::KeptPairs;
 
 impl EdmdEngine {
     /// Earliest event of particle `i` (whose state is at `now`) after a full search: leaving its
@@ -107,29 +107,27 @@ impl EdmdEngine {
     /// Earliest collision of particle `i` (at `now`) before `horizon` with a sphere in the
     /// cells of `hood`.
     ///
-    /// Memory latency is what limits this search, so it runs in three passes whose loads do
-    /// not wait on each other: prefetch the cells' heads; read them and prefetch each first
-    /// member's record and link; walk the lists, collecting partners in batches (prefetching
-    /// later members' records) and testing each full batch.
+    /// The walk prefetches the cells' heads, then each first member's record and link, then
+    /// walks the lists; each member met gets the first, square-root-free pass of the contact
+    /// test at once (see [`Self::earliest_among`]) and is kept when it may touch; the kept
+    /// ones get the second pass when the buffer is full and at the end.
     pub(super) fn scan_cells(&self, i: usize, hood: &Neighbourhood, horizon: f64) -> PairCandidate {
         let mut best = PairCandidate::NONE;
         let mut best_dt = horizon - self.now;
-        let mut batch = PartnerBatch::new();
+        let mut kept = KeptPairs::new();
         self.cells.walk(
             hood,
             |first| prefetch(&self.kin[first as usize]),
             |j, image| {
-                if j as usize == i {
-                    return;
-                }
-                prefetch(&self.kin[j as usize]);
-                if batch.push(j, image) {
-                    self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
-                    batch.clear();
+                let (pair, collisions) = self.approach(i, j, image);
+                let wanted = pair.may_touch_within(best_dt) & (j as usize != i);
+                if kept.push_if(wanted, pair, j, collisions) {
+                    self.earliest_kept(&kept, &mut best, &mut best_dt);
+                    kept.clear();
                 }
             },
         );
-        self.earliest_among(i, batch.partners(), &mut best, &mut best_dt);
+        self.earliest_kept(&kept, &mut best, &mut best_dt);
         best
     }
 
@@ -140,7 +138,7 @@ impl EdmdEngine {
     /// |v|^2 of every pair and keeps, without a branch, those that approach (b < 0) soon enough
     /// (gap <= -2 b t_max) for the horizon at the chunk's start; the second takes the square
     /// root only for those. A later horizon is never longer, so the second pass (the whole
-    /// test of [`pair_contact_time_within`] on the kept pairs, in their order) decides exactly
+    /// test of `pair_contact_time_within` on the kept pairs, in their order) decides exactly
     /// as testing every pair would, bit for bit.
     #[inline(always)]
     pub(super) fn earliest_among(
@@ -150,48 +148,56 @@ impl EdmdEngine {
         best: &mut PairCandidate,
         best_dt: &mut f64,
     ) {
-        const CHUNK: usize = 32;
-        let me = &self.kin[i];
-        let g = self.params.gravity;
-        let mut partners = partners.peekable();
-        while partners.peek().is_some() {
-            // (pair, partner, partner's collision counter); left uninitialised (zeroing it
-            // cost a memset per chunk), only the first `count` entries are ever read
-            let mut kept = [const { MaybeUninit::<(PairApproach, u32, u32)>::uninit() }; CHUNK];
-            let mut count = 0;
-            let horizon = *best_dt;
-            for (j, image) in partners.by_ref().take(CHUNK) {
-                let other = &self.kin[j as usize];
-                let shift = &self.image_shifts[image.index()];
-                // partner brought to `now` on the fly (its stored state is not touched)
-                let (rj, cj) = fly(other.position, other.velocity, g, self.now - other.time);
-                let r = [
-                    me.position[0] - (rj[0] + shift[0]),
-                    me.position[1] - (rj[1] + shift[1]),
-                    me.position[2] - (rj[2] + shift[2]),
-                ];
-                let v = [
-                    me.velocity[0] - cj[0],
-                    me.velocity[1] - cj[1],
-                    me.velocity[2] - cj[2],
-                ];
-                let pair = PairApproach::new(r, v);
-                kept[count].write((pair, j, other.collisions));
-                count += pair.may_touch_within(horizon) as usize;
+        let mut kept = KeptPairs::new();
+        for (j, image) in partners {
+            let (pair, collisions) = self.approach(i, j, image);
+            if kept.push_if(pair.may_touch_within(*best_dt), pair, j, collisions) {
+                self.earliest_kept(&kept, best, best_dt);
+                kept.clear();
             }
-            for entry in &kept[..count] {
-                // SAFETY: entries 0..count were written above (the entry at `count` is
-                // written before `count` can move past it)
-                let (pair, partner, partner_collisions) = unsafe { entry.assume_init_read() };
-                let dt = pair.contact_time_within(*best_dt);
-                if dt < *best_dt {
-                    *best_dt = dt;
-                    *best = PairCandidate {
-                        time: self.now + dt,
-                        partner,
-                        partner_collisions,
-                    };
-                }
+        }
+        self.earliest_kept(&kept, best, best_dt);
+    }
+
+    /// The contact equation of particle `i` (at `now`) with image `image` of particle `j`
+    /// (brought to `now` on the fly; its stored state is not touched), and `j`'s collision
+    /// counter.
+    #[inline(always)]
+    fn approach(&self, i: usize, j: u32, image: Image) -> (PairApproach, u32) {
+        let me = &self.kin[i];
+        let other = &self.kin[j as usize];
+        let shift = &self.image_shifts[image.index()];
+        let (rj, cj) = fly(
+            other.position,
+            other.velocity,
+            self.params.gravity,
+            self.now - other.time,
+        );
+        let r = [
+            me.position[0] - (rj[0] + shift[0]),
+            me.position[1] - (rj[1] + shift[1]),
+            me.position[2] - (rj[2] + shift[2]),
+        ];
+        let v = [
+            me.velocity[0] - cj[0],
+            me.velocity[1] - cj[1],
+            me.velocity[2] - cj[2],
+        ];
+        (PairApproach::new(r, v), other.collisions)
+    }
+
+    /// The second pass: the kept pairs' contact times, in their order, against `best`.
+    #[inline(always)]
+    fn earliest_kept(&self, kept: &KeptPairs, best: &mut PairCandidate, best_dt: &mut f64) {
+        for (pair, partner, partner_collisions) in kept.pairs() {
+            let dt = pair.contact_time_within(*best_dt);
+            if dt < *best_dt {
+                *best_dt = dt;
+                *best = PairCandidate {
+                    time: self.now + dt,
+                    partner,
+                    partner_collisions,
+                };
             }
         }
     }

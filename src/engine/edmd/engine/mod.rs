@@ -11,7 +11,6 @@ use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::prefetch::prefetch;
 use super::queue::{CalendarQueue, EventQueue};
-use super::search::PartnerBatch;
 use super::setup;
 use crate::engine::{
     Content, Engine, EngineDef, EngineError, Particles, Progress, Snapshot, StopAt,
