@@ -2,7 +2,7 @@
 //! resumed ends bitwise identical to the uninterrupted run; truncated, corrupt and foreign
 //! checkpoints are rejected with a reason.
 
-use granflow::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch};
+use granflow::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, SearchPolicy};
 use granflow::engine::{self, EngineError, Snapshot, StopAt};
 
 fn channel() -> EdmdParams {
@@ -78,6 +78,39 @@ fn resumed_run_with_neighbour_lists_is_bitwise_identical() {
         NeighbourSearch::Lists { .. }
     ));
     resume_equals_uninterrupted(dense);
+}
+
+/// A run whose neighbour search is re-chosen during the run: a dense channel (phi = 0.40)
+/// started with cell search switches to neighbour lists at its first snapshot, from its own
+/// bookkeeping. Resumed from a checkpoint taken before the switch (at the start) and from one
+/// taken after it, it ends bitwise identical to the uninterrupted run.
+#[test]
+fn resumed_run_that_switches_its_search_is_bitwise_identical() {
+    let dense = EdmdParams::channel(10.0, 10.0, 10.0, 0.40, 7);
+    let start = || {
+        let policy = SearchPolicy::adaptive(NeighbourSearch::Cells, &Default::default());
+        EdmdEngine::with_policy(dense.clone(), policy).unwrap()
+    };
+    let mut straight = start();
+    assert_eq!(straight.search(), NeighbourSearch::Cells);
+    run(&mut straight, 0, 1);
+    assert!(
+        matches!(straight.search(), NeighbourSearch::Lists { .. }),
+        "a dense channel should move to neighbour lists"
+    );
+    let reference = run(&mut straight, 1, 6);
+
+    let mut before = start();
+    engine::Engine::snapshot(&mut before);
+    let bytes = engine::Engine::checkpoint(&before);
+    let mut resumed = engine::restore(&bytes).unwrap();
+    assert_bitwise_equal(&reference, &run(resumed.as_mut(), 0, 6));
+
+    let mut after = start();
+    run(&mut after, 0, 3);
+    let bytes = engine::Engine::checkpoint(&after);
+    let mut resumed = engine::restore(&bytes).unwrap();
+    assert_bitwise_equal(&reference, &run(resumed.as_mut(), 3, 6));
 }
 
 #[test]

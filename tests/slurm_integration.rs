@@ -68,7 +68,7 @@ fn wait_for(
             start.elapsed() < timeout,
             "timed out waiting for {what}; last status:\n{st}"
         );
-        std::thread::sleep(Duration::from_secs(3));
+        std::thread::sleep(Duration::from_secs(1));
     }
 }
 
@@ -354,8 +354,8 @@ fn arrays_throttle_requeue_and_status_with_a_stand_in_runner() {
 // ---------------------------------------------------------------------------------------------
 // The real runner.
 
-/// The sweep run both locally and on Slurm: 4 jobs of some 20 s each, long enough for a task
-/// to be cancelled after its job wrote a checkpoint (one per snapshot).
+/// The sweep run both locally and on Slurm: 4 jobs of some 5-10 s each (polled every second),
+/// long enough for a task to be cancelled after its job wrote a checkpoint (one per snapshot).
 const SWEEP_RON: &str = r#"(
     name: Some("slurmtest"),
     engine: "edmd",
@@ -366,7 +366,7 @@ const SWEEP_RON: &str = r#"(
     ),
     axes: (length_over_width: Some([3.0, 4.0]), restitution: Some([0.7, 0.9])),
     seeds: [1],
-    run: (collisions_per_particle: 3000.0, snapshot_interval: 100.0, checkpoint_every: 1),
+    run: (collisions_per_particle: 8000.0, snapshot_interval: 200.0, checkpoint_every: 1),
 )
 "#;
 /// Overrides applied to both runs.

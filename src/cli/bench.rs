@@ -13,7 +13,7 @@
 //! the engine's own count of its data structures).
 
 use crate::engine::dsmc::{DsmcEngine, DsmcParams};
-use crate::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement};
+use crate::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement, SearchPolicy};
 use crate::engine::lga::{LgaEngine, LgaParams};
 use crate::engine::{Engine, StopAt};
 use clap::{Args, ValueEnum};
@@ -23,7 +23,8 @@ use std::time::Instant;
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
   granflow bench                              # every standard workload, as a table
-  granflow bench --workload channel --json    # the workloads named *channel*, as JSON")]
+  granflow bench --workload channel --json    # the workloads named *channel*, as JSON
+  granflow bench --from-job results/thesis-fig5-25/jobs/492eb82c0804cd46 --search cells")]
 pub struct BenchArgs {
     /// print a JSON array instead of a table
     #[arg(long)]
@@ -38,7 +39,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 100.0)]
     pub channel_warmup: f64,
     /// neighbour search: what a run would choose (auto: cell lists below phi = 0.3, neighbour
-    /// lists from there on), or force one
+    /// lists from there on, then re-chosen from the run's bookkeeping), or force one
     #[arg(long, value_enum, default_value_t = SearchChoice::Auto)]
     pub search: SearchChoice,
     /// skin of the neighbour lists, in d (with lists)
@@ -47,6 +48,11 @@ pub struct BenchArgs {
     /// timed site updates of each lattice-gas workload (after 1000 untimed steps)
     #[arg(long, default_value_t = 1e9)]
     pub site_updates: f64,
+    /// continue the EDMD job in this directory from its checkpoint (results/SWEEP/jobs/ID)
+    /// instead of running the standard workloads: timed over --collisions-per-particle, a
+    /// snapshot every tenth, after 2.5 untimed
+    #[arg(long, value_name = "JOB_DIR")]
+    pub from_job: Option<std::path::PathBuf>,
     /// timed simulator moves of each DSMC workload (after 500 untimed steps)
     #[arg(long, default_value_t = 3e8)]
     pub moves: f64,
@@ -61,13 +67,20 @@ pub enum SearchChoice {
 }
 
 impl BenchArgs {
-    fn search_for(&self, params: &EdmdParams) -> NeighbourSearch {
-        match (self.search, NeighbourSearch::automatic(params)) {
-            (SearchChoice::Cells, _) => NeighbourSearch::Cells,
-            (SearchChoice::Lists, _) | (SearchChoice::Auto, NeighbourSearch::Lists { .. }) => {
-                NeighbourSearch::Lists { skin: self.skin }
+    /// The neighbour search of a workload: as a run would have it (auto: starting from the
+    /// parameters, re-chosen at rebuilds), or forced throughout.
+    fn search_for(&self, params: &EdmdParams) -> SearchPolicy {
+        let lists = NeighbourSearch::Lists { skin: self.skin };
+        match self.search {
+            SearchChoice::Cells => SearchPolicy::fixed(NeighbourSearch::Cells),
+            SearchChoice::Lists => SearchPolicy::fixed(lists),
+            SearchChoice::Auto => {
+                let start = match NeighbourSearch::automatic(params) {
+                    NeighbourSearch::Cells => NeighbourSearch::Cells,
+                    NeighbourSearch::Lists { .. } => lists,
+                };
+                SearchPolicy::adaptive(start, &Default::default())
             }
-            (SearchChoice::Auto, NeighbourSearch::Cells) => NeighbourSearch::Cells,
         }
     }
 }
@@ -312,13 +325,9 @@ fn bytes_per_particle(baseline: Option<f64>, n: usize, fallback: f64) -> f64 {
     }
 }
 
-fn measure(
-    w: &Workload,
-    search: NeighbourSearch,
-    measured_cpp: f64,
-) -> anyhow::Result<BenchResult> {
+fn measure(w: &Workload, search: SearchPolicy, measured_cpp: f64) -> anyhow::Result<BenchResult> {
     let baseline = memory_baseline();
-    let mut engine = EdmdEngine::with_search(w.params.clone(), search)?;
+    let mut engine = EdmdEngine::with_policy(w.params.clone(), search)?;
     engine.advance(StopAt::CollisionsPerParticle(w.warmup))?;
     let before = engine.snapshot().progress;
     let started = Instant::now();
@@ -392,6 +401,19 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         args.collisions_per_particle > 0.0,
         "--collisions-per-particle must be > 0"
     );
+    if let Some(dir) = &args.from_job {
+        let r =
+            super::bench_job::measure(dir, args.search, args.skin, args.collisions_per_particle)?;
+        if args.json {
+            println!("{}", serde_json::to_string_pretty(&[r])?);
+        } else {
+            println!(
+                "{}: N = {}, phi = {:.3}: {:.4e} collisions/s, {:.4e} events/s, {:.0} bytes/particle (engine)",
+                r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
+            );
+        }
+        return Ok(());
+    }
     let wanted = |name: &str| {
         args.workload
             .as_ref()
@@ -444,9 +466,14 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             measure(w, search, args.collisions_per_particle)?
         };
         if !args.json {
-            let search = match search {
+            let name = match search.search {
                 NeighbourSearch::Cells => "cells".to_string(),
                 NeighbourSearch::Lists { skin } => format!("lists, skin {skin}"),
+            };
+            let search = if search.adaptive {
+                format!("auto, from {name}")
+            } else {
+                name
             };
             println!(
                 "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}",

@@ -3,7 +3,7 @@
 //! truncated, corrupt, foreign or future-version file is rejected with a message saying which
 //! check failed; it is never silently used.
 
-use super::EdmdParams;
+use super::{EdmdParams, NeighbourSearch, SearchPolicy};
 use crate::engine::{EngineError, envelope};
 use serde::{Deserialize, Serialize};
 
@@ -12,8 +12,9 @@ pub const ENGINE: &str = "edmd";
 /// Version of the payload layout; bump it when `EngineState` changes. Version 1 (before this
 /// one) lacked `suppressed_dissipation` and `stall_window`; it still reads, with the
 /// suppressed total unknown (NaN) and the stall window starting at the checkpoint. (Version 2
-/// existed only between commits of one session and is not read.)
-pub const FORMAT_VERSION: u32 = 3;
+/// existed only between commits of one session and is not read.) Version 3 lacked
+/// `search`; it reads with the search chosen from the parameters, re-chosen from then on.
+pub const FORMAT_VERSION: u32 = 4;
 
 /// Event counters of a run (cumulative since the start of the run, kept across checkpoints).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -62,6 +63,26 @@ pub struct EngineState {
     pub suppressed_dissipation: f64,
     /// start of the current stall-check window: (event count, simulated time)
     pub stall_window: (u64, f64),
+    /// the neighbour search in use and how it is chosen
+    pub search: SearchPolicy,
+}
+
+/// The payload of format version 3 (frozen: it decodes checkpoints written before the
+/// neighbour search was re-chosen during a run).
+#[derive(Deserialize)]
+struct EngineStateV3 {
+    params: EdmdParams,
+    now: f64,
+    positions: Vec<[f64; 3]>,
+    velocities: Vec<[f64; 3]>,
+    angular_velocities: Vec<[f64; 3]>,
+    last_collision: Vec<f64>,
+    counters: EdmdCounters,
+    wall_momentum: [[f64; 3]; 2],
+    dissipated: f64,
+    gravity_work: f64,
+    suppressed_dissipation: f64,
+    stall_window: (u64, f64),
 }
 
 /// The payload of format version 1 (frozen: it decodes checkpoints written before the TC
@@ -107,6 +128,10 @@ pub fn decode_payload(version: u32, payload: &[u8]) -> Result<EngineState, Engin
         1 => {
             let v1: EngineStateV1 = postcard::from_bytes(payload).map_err(undecodable)?;
             EngineState {
+                search: SearchPolicy::adaptive(
+                    NeighbourSearch::automatic(&v1.params),
+                    &v1.counters,
+                ),
                 params: v1.params,
                 now: v1.now,
                 positions: v1.positions,
@@ -121,10 +146,31 @@ pub fn decode_payload(version: u32, payload: &[u8]) -> Result<EngineState, Engin
                 stall_window: (v1.counters.events, v1.now),
             }
         }
+        3 => {
+            let v3: EngineStateV3 = postcard::from_bytes(payload).map_err(undecodable)?;
+            EngineState {
+                search: SearchPolicy::adaptive(
+                    NeighbourSearch::automatic(&v3.params),
+                    &v3.counters,
+                ),
+                params: v3.params,
+                now: v3.now,
+                positions: v3.positions,
+                velocities: v3.velocities,
+                angular_velocities: v3.angular_velocities,
+                last_collision: v3.last_collision,
+                counters: v3.counters,
+                wall_momentum: v3.wall_momentum,
+                dissipated: v3.dissipated,
+                gravity_work: v3.gravity_work,
+                suppressed_dissipation: v3.suppressed_dissipation,
+                stall_window: v3.stall_window,
+            }
+        }
         FORMAT_VERSION => postcard::from_bytes(payload).map_err(undecodable)?,
         _ => {
             return fail(format!(
-                "format version {version}, this granflow reads versions 1 and {FORMAT_VERSION}"
+                "format version {version}, this granflow reads versions 1, 3 and {FORMAT_VERSION}"
             ));
         }
     };
@@ -141,4 +187,74 @@ pub fn decode_payload(version: u32, payload: &[u8]) -> Result<EngineState, Engin
         return fail(format!("particle arrays do not match N = {n}"));
     }
     Ok(state)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A state as a fresh dense run would checkpoint it.
+    fn state() -> EngineState {
+        let params = EdmdParams::channel(10.0, 10.0, 10.0, 0.35, 3);
+        let n = params.particles;
+        EngineState {
+            search: SearchPolicy::fixed(NeighbourSearch::Cells),
+            now: 1.5,
+            positions: vec![[1.0, 2.0, 3.0]; n],
+            velocities: vec![[0.5, 0.0, -0.5]; n],
+            angular_velocities: vec![[0.0; 3]; n],
+            last_collision: vec![f64::NEG_INFINITY; n],
+            counters: EdmdCounters {
+                pair_collisions: 10,
+                events: 25,
+                ..Default::default()
+            },
+            wall_momentum: [[0.0; 3]; 2],
+            dissipated: 2.0,
+            gravity_work: 3.0,
+            suppressed_dissipation: 0.5,
+            stall_window: (25, 1.5),
+            params,
+        }
+    }
+
+    #[test]
+    fn the_search_policy_survives_a_checkpoint() {
+        let mut s = state();
+        s.search = SearchPolicy::adaptive(NeighbourSearch::Cells, &s.counters);
+        assert_eq!(decode(&encode(&s)).unwrap(), s);
+    }
+
+    /// A version-3 payload (every field but the search, in the same order) still reads: the
+    /// search is then the one the parameters choose, re-chosen from the checkpoint's counters.
+    #[test]
+    fn version_3_checkpoints_read_with_the_automatic_search() {
+        let s = state();
+        let v3 = (
+            &s.params,
+            s.now,
+            &s.positions,
+            &s.velocities,
+            &s.angular_velocities,
+            &s.last_collision,
+            s.counters,
+            s.wall_momentum,
+            s.dissipated,
+            s.gravity_work,
+            s.suppressed_dissipation,
+            s.stall_window,
+        );
+        let bytes = envelope::seal(ENGINE, 3, &postcard::to_stdvec(&v3).unwrap());
+        let read = decode(&bytes).unwrap();
+        let automatic = NeighbourSearch::automatic(&s.params);
+        assert!(matches!(automatic, NeighbourSearch::Lists { .. }));
+        assert_eq!(read.search, SearchPolicy::adaptive(automatic, &s.counters));
+        assert_eq!(
+            read,
+            EngineState {
+                search: read.search,
+                ..s
+            }
+        );
+    }
 }

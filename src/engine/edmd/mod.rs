@@ -25,9 +25,11 @@ mod prefetch;
 pub mod queue;
 pub mod reference;
 mod search;
+pub mod search_policy;
 pub mod setup;
 
 pub use checkpoint::EdmdCounters;
 pub use declaration::{DECLARATION, geometry, lattice_capacity, params_of};
 pub use engine::{EdmdEngine, NeighbourSearch, PhysicalEvent};
 pub use params::{EdmdParams, Placement, particles_for_volume_fraction};
+pub use search_policy::SearchPolicy;

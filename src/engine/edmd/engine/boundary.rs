@@ -25,6 +25,7 @@ impl EdmdEngine {
             gravity_work: self.gravity_work,
             suppressed_dissipation: self.suppressed_dissipation,
             stall_window: self.stall_window,
+            search: self.policy,
         }
     }
 }

@@ -205,6 +205,6 @@ impl EdmdEngine {
     /// True with neighbour-list search (else cells).
     #[inline(always)]
     pub(super) fn uses_lists(&self) -> bool {
-        matches!(self.search, NeighbourSearch::Lists { .. })
+        matches!(self.policy.search, NeighbourSearch::Lists { .. })
     }
 }

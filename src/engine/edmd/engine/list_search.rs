@@ -10,9 +10,10 @@ use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
 use crate::engine::edmd::EdmdParams;
 
 /// How the engine finds collision partners. Both give the same dynamics; they differ in speed
-/// (and in round-off, so a run is bitwise reproducible only with the same choice, which
-/// [`NeighbourSearch::automatic`] makes from the parameters alone).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// (and in round-off, so a run is bitwise reproducible only with the same choices, which a run
+/// makes from its parameters at the start, [`NeighbourSearch::automatic`], and from its own
+/// counters at rebuilds, [`crate::engine::edmd::SearchPolicy`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum NeighbourSearch {
     /// cell lists, cells of side >= d: the partners are in the 27 cells around a particle
     Cells,
@@ -30,8 +31,8 @@ impl NeighbourSearch {
     /// Default skin of the neighbour lists, in d.
     pub const DEFAULT_SKIN: f64 = 0.5;
 
-    /// Cell lists at low density, neighbour lists at high density (the choice depends on the
-    /// parameters only, so runs stay reproducible).
+    /// Cell lists at low density, neighbour lists at high density: the search a run starts
+    /// with (from the parameters only, so runs stay reproducible).
     pub fn automatic(params: &EdmdParams) -> Self {
         if params.volume_fraction() >= Self::LISTS_FROM_VOLUME_FRACTION {
             NeighbourSearch::Lists {
@@ -64,7 +65,7 @@ impl NeighbourSearch {
 
 impl EdmdEngine {
     fn skin(&self) -> f64 {
-        match self.search {
+        match self.policy.search {
             NeighbourSearch::Lists { skin } => skin,
             NeighbourSearch::Cells => unreachable!("list search without lists"),
         }

@@ -11,6 +11,7 @@ use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::prefetch::prefetch;
 use super::queue::{CalendarQueue, EventQueue};
+use super::search_policy::SearchPolicy;
 use super::setup;
 use crate::engine::{
     Content, Engine, EngineDef, EngineError, Particles, Progress, Snapshot, StopAt,
@@ -143,8 +144,9 @@ pub struct EdmdEngine {
     /// scheduled event and pair candidate of each particle (one record: one cache miss)
     plan: Vec<Plan>,
     queue: CalendarQueue,
-    /// how partners are found: cell lists, or neighbour lists (then the cells hold anchors)
-    search: NeighbourSearch,
+    /// how partners are found (cell lists, or neighbour lists: then the cells hold anchors)
+    /// and whether rebuilds re-choose it
+    policy: SearchPolicy,
     /// symmetric neighbour lists (list search only)
     lists: NeighbourLists,
     /// centre of each particle's neighbour list, in the grid frame (list search only)
@@ -183,16 +185,25 @@ pub struct EdmdEngine {
 
 impl EdmdEngine {
     /// A fresh run: place spheres, draw velocities, schedule all events. The neighbour search
-    /// is chosen from the parameters ([`NeighbourSearch::automatic`]).
+    /// starts as [`NeighbourSearch::automatic`] chooses from the parameters and is re-chosen at
+    /// rebuilds from the run's own bookkeeping ([`SearchPolicy`]).
     pub fn new(params: EdmdParams) -> Result<Self, EngineError> {
-        let search = NeighbourSearch::automatic(&params);
-        Self::with_search(params, search)
+        let start = NeighbourSearch::automatic(&params);
+        Self::with_policy(
+            params,
+            SearchPolicy::adaptive(start, &EdmdCounters::default()),
+        )
     }
 
-    /// A fresh run with the given neighbour search (for tests and benchmarks).
+    /// A fresh run with the given neighbour search throughout (for tests and benchmarks).
     pub fn with_search(params: EdmdParams, search: NeighbourSearch) -> Result<Self, EngineError> {
+        Self::with_policy(params, SearchPolicy::fixed(search))
+    }
+
+    /// A fresh run whose neighbour search follows `policy`.
+    pub fn with_policy(params: EdmdParams, policy: SearchPolicy) -> Result<Self, EngineError> {
         params.validate()?;
-        search.validate()?;
+        policy.search.validate()?;
         let start = setup::initial_state(&params)?;
         let n = params.particles;
         let state = EngineState {
@@ -208,24 +219,25 @@ impl EdmdEngine {
             gravity_work: 0.0,
             suppressed_dissipation: 0.0,
             stall_window: (0, 0.0),
+            search: policy,
         };
-        Ok(Self::from_state(state, search))
+        Ok(Self::from_state(state))
     }
 
     /// Rebuild an engine from checkpoint bytes (see [`checkpoint`]).
     pub fn restore(bytes: &[u8]) -> Result<Self, EngineError> {
         let state = checkpoint::decode(bytes)?;
         state.params.validate()?;
-        let search = NeighbourSearch::automatic(&state.params);
-        Ok(Self::from_state(state, search))
+        state.search.search.validate()?;
+        Ok(Self::from_state(state))
     }
 
     /// Rebuild an engine from a checkpoint payload already taken out of its envelope.
     pub fn restore_payload(version: u32, payload: &[u8]) -> Result<Self, EngineError> {
         let state = checkpoint::decode_payload(version, payload)?;
         state.params.validate()?;
-        let search = NeighbourSearch::automatic(&state.params);
-        Ok(Self::from_state(state, search))
+        state.search.search.validate()?;
+        Ok(Self::from_state(state))
     }
 
     /// The event counters so far.
@@ -233,34 +245,26 @@ impl EdmdEngine {
         self.counters
     }
 
-    /// As [`EdmdEngine::restore`], with the given neighbour search (for tests).
-    pub fn restore_with_search(bytes: &[u8], search: NeighbourSearch) -> Result<Self, EngineError> {
-        let state = checkpoint::decode(bytes)?;
-        state.params.validate()?;
-        search.validate()?;
-        Ok(Self::from_state(state, search))
+    /// The neighbour search in use.
+    pub fn search(&self) -> NeighbourSearch {
+        self.policy.search
     }
 
-    fn from_state(state: EngineState, search: NeighbourSearch) -> Self {
+    /// As [`EdmdEngine::restore`], with the given neighbour search throughout (for tests).
+    pub fn restore_with_search(bytes: &[u8], search: NeighbourSearch) -> Result<Self, EngineError> {
+        let mut state = checkpoint::decode(bytes)?;
+        state.params.validate()?;
+        search.validate()?;
+        state.search = SearchPolicy::fixed(search);
+        Ok(Self::from_state(state))
+    }
+
+    fn from_state(state: EngineState) -> Self {
         let p = &state.params;
         let g = p.geometry;
         let n = p.particles;
-        let side = CELL_MARGIN * search.reach();
-        let axes = [
-            AxisCells::new(0.0, g.length, g.length, true, side),
-            if g.walls {
-                AxisCells::new(
-                    collision::RADIUS,
-                    g.width - 2.0 * collision::RADIUS,
-                    g.width,
-                    false,
-                    side,
-                )
-            } else {
-                AxisCells::new(0.0, g.width, g.width, true, side)
-            },
-            AxisCells::new(0.0, g.height, g.height, true, side),
-        ];
+        let search = state.search.search;
+        let axes = grid_axes(&g, search);
         let ext = g.extents();
         let periodic = [true, !g.walls, true];
         let image_shifts = std::array::from_fn(|index| {
@@ -299,11 +303,8 @@ impl EdmdEngine {
             last_collision: state.last_collision,
             plan: vec![Plan::NONE; n],
             queue: CalendarQueue::new(n, 1, 1.0, state.now),
-            search,
-            lists: NeighbourLists::new(match search {
-                NeighbourSearch::Cells => 0,
-                NeighbourSearch::Lists { .. } => n,
-            }),
+            policy: state.search,
+            lists: lists_for(search, n),
             anchors: Vec::new(),
             scratch: Vec::new(),
             image_shifts,
@@ -364,4 +365,34 @@ impl EdmdEngine {
         }
         out
     }
+}
+
+/// The cell grid of a box for a neighbour search: cells of side >= d (cell search) or
+/// >= d + skin (list search, whose cells hold the lists' centres); along a wall axis the cells
+/// span the centres' range [d/2, W - d/2].
+fn grid_axes(g: &crate::engine::BoxGeometry, search: NeighbourSearch) -> [AxisCells; 3] {
+    let side = CELL_MARGIN * search.reach();
+    [
+        AxisCells::new(0.0, g.length, g.length, true, side),
+        if g.walls {
+            AxisCells::new(
+                collision::RADIUS,
+                g.width - 2.0 * collision::RADIUS,
+                g.width,
+                false,
+                side,
+            )
+        } else {
+            AxisCells::new(0.0, g.width, g.width, true, side)
+        },
+        AxisCells::new(0.0, g.height, g.height, true, side),
+    ]
+}
+
+/// Neighbour lists for `n` particles with list search, none with cell search.
+fn lists_for(search: NeighbourSearch, n: usize) -> NeighbourLists {
+    NeighbourLists::new(match search {
+        NeighbourSearch::Cells => 0,
+        NeighbourSearch::Lists { .. } => n,
+    })
 }

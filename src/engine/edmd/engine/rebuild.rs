@@ -27,9 +27,17 @@ impl EdmdEngine {
                 }
             }
         }
+        // re-choose the neighbour search from the bookkeeping since the last choice (counters
+        // only: a restored run chooses as the uninterrupted one did)
+        let policy = self.policy.next(&self.counters, n);
+        if policy.search != self.policy.search {
+            self.lists = lists_for(policy.search, n);
+            self.anchors.clear();
+        }
+        self.policy = policy;
         // store particles in cell order (ties by particle id, so the order depends on the
         // state alone): the partners a search reads then sit close together in memory
-        let axes = self.cells.axes;
+        let axes = grid_axes(&self.params.geometry, policy.search);
         self.cells = CellGrid::new(axes, n);
         let cell_of: Vec<usize> = (0..n)
             .map(|s| self.cells.index(self.cells.locate(self.kin[s].position)))

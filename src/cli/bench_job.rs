@@ -1,0 +1,72 @@
+//! `granflow bench --from-job DIR`: the engine's speed on a state a job saved (its last
+//! checkpoint), e.g. a dense slug of a channel, where the standard workloads say little. The
+//! run goes on as a job would, a snapshot every tenth of the timed stretch, so that the
+//! automatic neighbour search re-chooses at the same points as in a run.
+
+use super::bench::{BenchResult, SearchChoice};
+use crate::engine::edmd::{EdmdEngine, NeighbourSearch, checkpoint};
+use crate::engine::{Engine, StopAt, envelope};
+use std::path::Path;
+use std::time::Instant;
+
+/// Untimed collisions per particle before the timed stretch: the automatic search has chosen
+/// by then (it needs two; the first snapshot after them decides).
+const WARMUP: f64 = 2.5;
+
+/// Time `measured_cpp` collisions per particle of the EDMD job in `dir`, continued from its
+/// checkpoint with the given search.
+pub fn measure(
+    dir: &Path,
+    search: SearchChoice,
+    skin: f64,
+    measured_cpp: f64,
+) -> anyhow::Result<BenchResult> {
+    let saved = crate::sweep::store::read_checkpoint(dir)?.ok_or_else(|| {
+        anyhow::anyhow!("{}: the job has no checkpoint to start from", dir.display())
+    })?;
+    let sealed = envelope::open(&saved.engine)?;
+    anyhow::ensure!(
+        sealed.engine == checkpoint::ENGINE,
+        "{}: a checkpoint of the {} engine; --from-job measures EDMD jobs",
+        dir.display(),
+        sealed.engine
+    );
+    let mut engine = match search {
+        SearchChoice::Auto => EdmdEngine::restore(&saved.engine)?,
+        SearchChoice::Cells => {
+            EdmdEngine::restore_with_search(&saved.engine, NeighbourSearch::Cells)?
+        }
+        SearchChoice::Lists => {
+            EdmdEngine::restore_with_search(&saved.engine, NeighbourSearch::Lists { skin })?
+        }
+    };
+    let n = engine.params().particles;
+    let start = engine.progress().collisions_per_particle + WARMUP;
+    engine.advance(StopAt::CollisionsPerParticle(start))?;
+    engine.snapshot();
+    let before = engine.progress();
+    let started = Instant::now();
+    for k in 1..=10 {
+        let at = start + measured_cpp * k as f64 / 10.0;
+        engine.advance(StopAt::CollisionsPerParticle(at))?;
+        engine.snapshot();
+    }
+    let secs = started.elapsed().as_secs_f64();
+    let after = engine.progress();
+    let collisions =
+        (after.collisions_per_particle - before.collisions_per_particle) * n as f64 / 2.0;
+    let name = dir.file_name().map_or_else(
+        || dir.display().to_string(),
+        |f| f.to_string_lossy().into_owned(),
+    );
+    Ok(BenchResult {
+        workload: format!("job {name} at t = {:.1}", before.time),
+        n,
+        phi: engine.params().volume_fraction(),
+        collisions_per_s: collisions / secs,
+        events_per_s: (after.events - before.events) as f64 / secs,
+        bytes_per_particle: engine.bytes_per_particle(),
+        site_updates_per_s: None,
+        moves_per_s: None,
+    })
+}
