@@ -189,6 +189,80 @@ fn bench_json_keeps_its_keys() {
     assert!(rows[0]["phi"].as_f64().is_some());
 }
 
+/// `bench --from-job` times a job's saved state with the same JSON keys, for each search;
+/// a job without a checkpoint is refused with the directory named.
+#[test]
+fn bench_from_job_times_a_saved_state() {
+    let dir = scratch("bench-from-job");
+    let file = dir.join("b.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"edmd\", fixed: (length_over_width: 2.0, width_over_diameter: 6.0, height_over_diameter: 6.0, volume_fraction: 0.3),\n run: (collisions_per_particle: 40, snapshot_interval: 20))",
+    )
+    .unwrap();
+    let results = dir.join("results");
+    let out = granflow(&[
+        "run",
+        file.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let jobs = results.join("b").join("jobs");
+    let job = std::fs::read_dir(&jobs)
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let n = serde_json::from_str::<serde_json::Value>(
+        &std::fs::read_to_string(job.join("params.json")).unwrap(),
+    )
+    .unwrap()["params"]["values"]["particles"]
+        .as_f64()
+        .unwrap();
+    for search in ["auto", "cells", "lists"] {
+        let out = granflow(&[
+            "bench",
+            "--json",
+            "--from-job",
+            job.to_str().unwrap(),
+            "--search",
+            search,
+            "--collisions-per-particle",
+            "5",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+        let row = rows[0].as_object().unwrap();
+        for key in [
+            "workload",
+            "n",
+            "phi",
+            "collisions_per_s",
+            "events_per_s",
+            "bytes_per_particle",
+        ] {
+            assert!(row.contains_key(key), "{key}: {row:?}");
+        }
+        assert_eq!(row["n"].as_f64(), Some(n));
+        assert!(row["collisions_per_s"].as_f64().unwrap() > 0.0);
+    }
+    let empty = dir.join("no-job");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = granflow(&["bench", "--from-job", empty.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no-job"));
+}
+
 /// Ranges (issue 14, item 4): an axis written as `linspace`/`logspace`/`range`, in the file or
 /// with `--set`, gives the same jobs (same ids, same order) as its values written as a list;
 /// the resolved sweep keeps the values as a list.
