@@ -134,6 +134,9 @@ pub struct PairApproach {
     v2: f64,
 }
 
+// the tests are written as negations (`!(b >= 0.0)`) on purpose: they decide NaN exactly as
+// the branching `pair_contact_time_before` does
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 impl PairApproach {
     #[inline(always)]
     pub fn new(r: [f64; 3], v: [f64; 3]) -> Self {

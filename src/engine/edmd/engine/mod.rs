@@ -367,9 +367,9 @@ impl EdmdEngine {
     }
 }
 
-/// The cell grid of a box for a neighbour search: cells of side >= d (cell search) or
-/// >= d + skin (list search, whose cells hold the lists' centres); along a wall axis the cells
-/// span the centres' range [d/2, W - d/2].
+/// The cell grid of a box for a neighbour search: cells of side at least d (cell search) or
+/// at least d + skin (list search, whose cells hold the lists' centres); along a wall axis the
+/// cells span the centres' range [d/2, W - d/2].
 fn grid_axes(g: &crate::engine::BoxGeometry, search: NeighbourSearch) -> [AxisCells; 3] {
     let side = CELL_MARGIN * search.reach();
     [
