@@ -3,6 +3,8 @@
 //! does not vary; ranges (`linspace`, `logspace`, `range`) in sweep files and `--set`;
 //! examples in every subcommand's help; shell completions.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -201,17 +203,12 @@ fn bench_from_job_times_a_saved_state() {
     )
     .unwrap();
     let results = dir.join("results");
-    let out = granflow(&[
+    common::granflow_ok(&[
         "run",
         file.to_str().unwrap(),
         "--results",
         results.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let jobs = results.join("b").join("jobs");
     let job = std::fs::read_dir(&jobs)
         .unwrap()
@@ -226,7 +223,7 @@ fn bench_from_job_times_a_saved_state() {
         .as_f64()
         .unwrap();
     for search in ["auto", "cells", "lists"] {
-        let out = granflow(&[
+        let out = common::granflow_ok(&[
             "bench",
             "--json",
             "--from-job",
@@ -236,12 +233,7 @@ fn bench_from_job_times_a_saved_state() {
             "--collisions-per-particle",
             "5",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+        let rows: Vec<serde_json::Value> = serde_json::from_str(&out).unwrap();
         let row = rows[0].as_object().unwrap();
         for key in [
             "workload",

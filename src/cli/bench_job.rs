@@ -4,8 +4,9 @@
 //! automatic neighbour search re-chooses at the same points as in a run.
 
 use super::bench::{BenchResult, SearchChoice};
-use crate::engine::edmd::{EdmdEngine, NeighbourSearch, checkpoint};
-use crate::engine::{Engine, StopAt, envelope};
+use crate::engine::edmd::{EdmdEngine, NeighbourSearch};
+use crate::engine::{Engine, StopAt};
+use anyhow::Context;
 use std::path::Path;
 use std::time::Instant;
 
@@ -24,22 +25,22 @@ pub fn measure(
     let saved = crate::sweep::store::read_checkpoint(dir)?.ok_or_else(|| {
         anyhow::anyhow!("{}: the job has no checkpoint to start from", dir.display())
     })?;
-    let sealed = envelope::open(&saved.engine)?;
-    anyhow::ensure!(
-        sealed.engine == checkpoint::ENGINE,
-        "{}: a checkpoint of the {} engine; --from-job measures EDMD jobs",
-        dir.display(),
-        sealed.engine
-    );
-    let mut engine = match search {
-        SearchChoice::Auto => EdmdEngine::restore(&saved.engine)?,
+    // the engine's own decoding refuses another engine's checkpoint, saying whose it is
+    let restored = match search {
+        SearchChoice::Auto => EdmdEngine::restore(&saved.engine),
         SearchChoice::Cells => {
-            EdmdEngine::restore_with_search(&saved.engine, NeighbourSearch::Cells)?
+            EdmdEngine::restore_with_search(&saved.engine, NeighbourSearch::Cells)
         }
         SearchChoice::Lists => {
-            EdmdEngine::restore_with_search(&saved.engine, NeighbourSearch::Lists { skin })?
+            EdmdEngine::restore_with_search(&saved.engine, NeighbourSearch::Lists { skin })
         }
     };
+    let mut engine = restored.with_context(|| {
+        format!(
+            "{}: --from-job measures EDMD jobs from their checkpoint",
+            dir.display()
+        )
+    })?;
     let n = engine.params().particles;
     let start = engine.progress().collisions_per_particle + WARMUP;
     engine.advance(StopAt::CollisionsPerParticle(start))?;

@@ -119,12 +119,8 @@ impl EdmdEngine {
             hood,
             |first| prefetch(&self.kin[first as usize]),
             |j, image| {
-                let (pair, collisions) = self.approach(i, j, image);
-                let wanted = pair.may_touch_within(best_dt) & (j as usize != i);
-                if kept.push_if(wanted, pair, j, collisions) {
-                    self.earliest_kept(&kept, &mut best, &mut best_dt);
-                    kept.clear();
-                }
+                let other = j as usize != i;
+                self.consider(i, j, image, other, &mut kept, &mut best, &mut best_dt);
             },
         );
         self.earliest_kept(&kept, &mut best, &mut best_dt);
@@ -134,12 +130,12 @@ impl EdmdEngine {
     /// Update `best` (contact before `now + best_dt`) with the given partners of particle `i`,
     /// each in its periodic image.
     ///
-    /// Two passes over chunks of partners: the first computes b = r.v, the gap |r|^2 - d^2 and
-    /// |v|^2 of every pair and keeps, without a branch, those that approach (b < 0) soon enough
-    /// (gap <= -2 b t_max) for the horizon at the chunk's start; the second takes the square
-    /// root only for those. A later horizon is never longer, so the second pass (the whole
-    /// test of `pair_contact_time_within` on the kept pairs, in their order) decides exactly
-    /// as testing every pair would, bit for bit.
+    /// Two passes: the first computes b = r.v, the gap |r|^2 - d^2 and |v|^2 of every pair and
+    /// keeps, without a branch, those that approach (b < 0) soon enough (gap <= -2 b t_max) for
+    /// the horizon when the pair is met; the second takes the square root only for those, when
+    /// the buffer is full and at the end. A later horizon is never longer, so the second pass
+    /// (the whole test of `pair_contact_time_within` on the kept pairs, in their order) decides
+    /// exactly as testing every pair would, bit for bit.
     #[inline(always)]
     pub(super) fn earliest_among(
         &self,
@@ -150,13 +146,36 @@ impl EdmdEngine {
     ) {
         let mut kept = KeptPairs::new();
         for (j, image) in partners {
-            let (pair, collisions) = self.approach(i, j, image);
-            if kept.push_if(pair.may_touch_within(*best_dt), pair, j, collisions) {
-                self.earliest_kept(&kept, best, best_dt);
-                kept.clear();
-            }
+            self.consider(i, j, image, true, &mut kept, best, best_dt);
         }
         self.earliest_kept(&kept, best, best_dt);
+    }
+
+    /// The first pass for image `image` of particle `j` as a partner of particle `i`: kept
+    /// when it may touch before `now + best_dt` and `wanted`; a full buffer gets the second
+    /// pass at once.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn consider(
+        &self,
+        i: usize,
+        j: u32,
+        image: Image,
+        wanted: bool,
+        kept: &mut KeptPairs,
+        best: &mut PairCandidate,
+        best_dt: &mut f64,
+    ) {
+        let (pair, collisions) = self.approach(i, j, image);
+        if kept.push_if(
+            pair.may_touch_within(*best_dt) & wanted,
+            pair,
+            j,
+            collisions,
+        ) {
+            self.earliest_kept(kept, best, best_dt);
+            kept.clear();
+        }
     }
 
     /// The contact equation of particle `i` (at `now`) with image `image` of particle `j`
