@@ -306,7 +306,8 @@ impl CellGrid {
         let mut occupied = [const { MaybeUninit::<(u32, Image)>::uninit() }; 27];
         let mut count = 0;
         hood.for_each(|cell, image| {
-            let first = self.head[cell];
+            // SAFETY: the neighbourhood tables hold only cells of this grid
+            let first = unsafe { *self.head.get_unchecked(cell) };
             // SAFETY: `for_each` visits at most 27 cells and `count` grows by at most one per
             // cell, so it is below 27 here
             unsafe { occupied.get_unchecked_mut(count) }.write((first, image));
@@ -323,7 +324,9 @@ impl CellGrid {
             let mut j = first;
             while j != EMPTY {
                 visit(j, image);
-                j = self.next[j as usize];
+                // SAFETY: every id in a cell list went in through `insert`, which indexes
+                // `next` with it
+                j = unsafe { *self.next.get_unchecked(j as usize) };
             }
         }
     }

@@ -45,3 +45,24 @@ impl Image {
         self.0 as usize
     }
 }
+
+/// The shift vector of each periodic image, looked up without a bounds check: the 27 vectors
+/// padded to 32, indexed by the code masked to 5 bits (codes are below 27).
+#[derive(Clone, Debug)]
+pub struct ImageShifts([[f64; 3]; 32]);
+
+impl ImageShifts {
+    /// Shifts of `k` box lengths `extents` along each periodic axis (none along the others).
+    pub fn new(extents: [f64; 3], periodic: [bool; 3]) -> Self {
+        ImageShifts(std::array::from_fn(|index| {
+            let k = Image::from_index(index.min(Image::COUNT - 1)).offsets();
+            std::array::from_fn(|a| if periodic[a] { k[a] as f64 * extents[a] } else { 0.0 })
+        }))
+    }
+
+    /// Shift vector of `image`.
+    #[inline(always)]
+    pub fn of(&self, image: Image) -> &[f64; 3] {
+        &self.0[(image.0 & 31) as usize]
+    }
+}

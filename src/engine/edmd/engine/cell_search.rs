@@ -184,8 +184,11 @@ impl EdmdEngine {
     #[inline(always)]
     fn approach(&self, i: usize, j: u32, image: Image) -> (PairApproach, u32) {
         let me = &self.kin[i];
-        let other = &self.kin[j as usize];
-        let shift = &self.image_shifts[image.index()];
+        debug_assert!((j as usize) < self.kin.len());
+        // SAFETY: partners come from the cell and neighbour lists, which hold only ids of
+        // this engine's particles (both index per-particle arrays with every id they take in)
+        let other = unsafe { self.kin.get_unchecked(j as usize) };
+        let shift = self.image_shifts.of(image);
         let (rj, cj) = fly(
             other.position,
             other.velocity,

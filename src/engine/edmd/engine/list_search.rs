@@ -98,7 +98,7 @@ impl EdmdEngine {
             |first| prefetch(&self.anchors[first as usize]),
             |j, image| {
                 let b = self.anchors[j as usize];
-                let shift = self.image_shifts[image.index()];
+                let shift = *self.image_shifts.of(image);
                 let d = [
                     a[0] - (b[0] + shift[0]),
                     a[1] - (b[1] + shift[1]),

@@ -8,6 +8,7 @@ use super::cells::{AxisCells, CellGrid, Neighbourhood};
 use super::checkpoint::{self, EdmdCounters, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
 use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
+use super::images::ImageShifts;
 use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::prefetch::prefetch;
 use super::queue::{CalendarQueue, EventQueue};
@@ -154,7 +155,7 @@ pub struct EdmdEngine {
     /// neighbours found by a list renewal (reused: no allocation per event)
     scratch: Vec<Neighbour>,
     /// shift vector of each periodic image (box lengths along the periodic axes)
-    image_shifts: [[f64; 3]; Image::COUNT],
+    image_shifts: ImageShifts,
     cells: CellGrid,
     /// U, velocity along x of the cell grid: the grid drifts with the mean flow so that the
     /// fast flow of a channel does not turn into a stream of cell crossings. A particle's
@@ -267,16 +268,7 @@ impl EdmdEngine {
         let axes = grid_axes(&g, search);
         let ext = g.extents();
         let periodic = [true, !g.walls, true];
-        let image_shifts = std::array::from_fn(|index| {
-            let k = Image::from_index(index).offsets();
-            std::array::from_fn(|a| {
-                if periodic[a] {
-                    k[a] as f64 * ext[a]
-                } else {
-                    0.0
-                }
-            })
-        });
+        let image_shifts = ImageShifts::new(ext, periodic);
         let kin = (0..n)
             .map(|i| Kinematics {
                 position: state.positions[i],
