@@ -155,6 +155,11 @@ pub struct CellGrid {
     prev: Vec<u32>,
     /// flat cell of each particle (u32::MAX: in none)
     cell_of_particle: Vec<u32>,
+    /// cell coordinates of each particle (kept beside the flat index: every event asks for
+    /// them, and a flat index only gives them back by division)
+    coords_of_particle: Vec<[u32; 3]>,
+    /// per axis and cell coordinate: the cell's lower and upper face (`AxisCells::faces`)
+    faces: [Vec<(f64, f64)>; 3],
     /// the cell counts along x and y as divisors by multiplication (a crossing turns a flat
     /// index into coordinates; a hardware division would cost more than the rest of it)
     count_x: StrengthReducedU32,
@@ -203,6 +208,8 @@ impl CellGrid {
             next: vec![EMPTY; particles],
             prev: vec![EMPTY; particles],
             cell_of_particle: vec![u32::MAX; particles],
+            coords_of_particle: vec![[u32::MAX; 3]; particles],
+            faces: std::array::from_fn(|a| (0..axes[a].count).map(|c| axes[a].faces(c)).collect()),
             count_x: StrengthReducedU32::new(axes[0].count as u32),
             count_y: StrengthReducedU32::new(axes[1].count as u32),
         }
@@ -243,6 +250,12 @@ impl CellGrid {
         self.around_coords(self.coords(cell))
     }
 
+    /// The 27 cells around particle `id`'s cell (fewer past a wall).
+    #[inline(always)]
+    pub fn around_particle(&self, id: u32) -> Neighbourhood {
+        self.around_coords(self.coords_of(id))
+    }
+
     #[inline(always)]
     fn around_coords(&self, coords: [usize; 3]) -> Neighbourhood {
         let mut hood = Neighbourhood {
@@ -261,7 +274,17 @@ impl CellGrid {
     /// upper (true) or lower face along `axis` (fewer past a wall).
     #[inline(always)]
     pub fn entered(&self, cell: usize, axis: usize, upper: bool) -> Neighbourhood {
-        let coords = self.coords(cell);
+        self.entered_at(self.coords(cell), axis, upper)
+    }
+
+    /// `entered` for the cell that particle `id` has just entered.
+    #[inline(always)]
+    pub fn entered_by(&self, id: u32, axis: usize, upper: bool) -> Neighbourhood {
+        self.entered_at(self.coords_of(id), axis, upper)
+    }
+
+    #[inline(always)]
+    fn entered_at(&self, coords: [usize; 3], axis: usize, upper: bool) -> Neighbourhood {
         let mut hood = self.around_coords(coords);
         let steps = &self.steps[axis][coords[axis]];
         match if upper { steps.upper } else { steps.lower } {
@@ -278,6 +301,19 @@ impl CellGrid {
     #[inline(always)]
     pub fn cell_of(&self, id: u32) -> usize {
         self.cell_of_particle[id as usize] as usize
+    }
+
+    /// Cell coordinates of particle `id` (in a cell).
+    #[inline(always)]
+    pub fn coords_of(&self, id: u32) -> [usize; 3] {
+        self.coords_of_particle[id as usize].map(|c| c as usize)
+    }
+
+    /// Lower and upper face along `axis` of the cells at coordinate `c` (as
+    /// `AxisCells::faces`, from a table).
+    #[inline(always)]
+    pub fn faces(&self, axis: usize, c: usize) -> (f64, f64) {
+        self.faces[axis][c]
     }
 
     /// Particles in flat cell `cell` (the most recently inserted first).
@@ -341,6 +377,7 @@ impl CellGrid {
         }
         self.head[cell] = id;
         self.cell_of_particle[id as usize] = cell as u32;
+        self.coords_of_particle[id as usize] = self.coords(cell).map(|c| c as u32);
     }
 
     /// Take particle `id` out of its cell.
@@ -356,6 +393,7 @@ impl CellGrid {
             self.prev[after as usize] = before;
         }
         self.cell_of_particle[id as usize] = u32::MAX;
+        self.coords_of_particle[id as usize] = [u32::MAX; 3];
     }
 
     /// Move particle `id` to flat cell `cell`.
@@ -367,7 +405,10 @@ impl CellGrid {
 
     /// Memory used, in bytes.
     pub fn bytes(&self) -> usize {
+        let faces: usize = self.faces.iter().map(Vec::len).sum();
         4 * (self.head.len() + 3 * self.next.len())
+            + std::mem::size_of::<[u32; 3]>() * self.coords_of_particle.len()
+            + std::mem::size_of::<(f64, f64)>() * faces
     }
 }
 
@@ -415,6 +456,11 @@ mod tests {
                 AxisCells::new(0.0, span, span, periodic[a], 1.0)
             });
             let grid = CellGrid::new(axes, 1);
+            for (a, axis) in axes.iter().enumerate() {
+                for c in 0..axis.count {
+                    assert_eq!(grid.faces(a, c), axis.faces(c), "face table, axis {a}");
+                }
+            }
             for cell in 0..grid.cell_count() {
                 let coords = grid.coords(cell);
                 let mut got = Vec::new();
@@ -471,6 +517,7 @@ mod tests {
                         reference[cell].push(id);
                         located[id as usize] = Some(cell);
                         assert_eq!(grid.cell_of(id), cell);
+                        assert_eq!(grid.coords_of(id), grid.coords(cell), "stored coordinates");
                     }
                 }
             }

@@ -14,7 +14,7 @@ impl EdmdEngine {
         if self.uses_lists() {
             return self.predict_from_list(i);
         }
-        let around = self.cells.around(self.cells.cell_of(i as u32));
+        let around = self.cells.around_particle(i as u32);
         self.plan[i].candidate = self.scan_cells(i, &around, f64::INFINITY);
         self.choose_event(i)
     }
@@ -31,9 +31,7 @@ impl EdmdEngine {
         if !still_valid {
             return self.predict(i);
         }
-        let entered = self
-            .cells
-            .entered(self.cells.cell_of(i as u32), axis, upper);
+        let entered = self.cells.entered_by(i as u32, axis, upper);
         let found = self.scan_cells(i, &entered, candidate.time);
         if found.time < candidate.time {
             self.plan[i].candidate = found;
@@ -61,12 +59,12 @@ impl EdmdEngine {
     pub(super) fn exit_event(&self, i: usize) -> (f64, EventKind) {
         let me = &self.kin[i];
         let g = self.params.gravity;
-        let coords = self.cells.coords(self.cells.cell_of(i as u32));
+        let coords = self.cells.coords_of(i as u32);
         let axes = &self.cells.axes;
         // the earliest face, chosen by selects (which one it is is random): first axis on ties
         let (mut best, mut axis, mut upper) = (f64::INFINITY, 0, false);
         for a in 0..3 {
-            let (lo, hi) = axes[a].faces(coords[a]);
+            let (lo, hi) = self.cells.faces(a, coords[a]);
             let (dt, up) = if a == 0 && g > 0.0 {
                 // in the drifting grid frame: xi = x - U (t - t_grid), velocity c_x - U
                 parabolic_exit_time(
@@ -107,7 +105,7 @@ impl EdmdEngine {
     /// Earliest collision of particle `i` (at `now`) before `horizon` with a sphere in the
     /// cells of `hood`.
     ///
-    /// The walk prefetches the cells' heads, then each first member's record and link, then
+    /// The walk reads the cells' heads, prefetches each first member's record and link, then
     /// walks the lists; each member met gets the first, square-root-free pass of the contact
     /// test at once (see [`Self::earliest_among`]) and is kept when it may touch; the kept
     /// ones get the second pass when the buffer is full and at the end.

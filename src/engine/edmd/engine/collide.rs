@@ -6,8 +6,7 @@ impl EdmdEngine {
     /// Move particle `i` into the next cell along `axis`, wrapping across the periodic seam.
     pub(super) fn cross_cell(&mut self, i: usize, axis: usize, upper: bool) {
         self.counters.cell_crossings += 1;
-        let cell = self.cells.cell_of(i as u32);
-        let mut coords = self.cells.coords(cell);
+        let mut coords = self.cells.coords_of(i as u32);
         let ax = self.cells.axes[axis];
         let (next, shift) = ax
             .neighbour(coords[axis], if upper { 1 } else { -1 })

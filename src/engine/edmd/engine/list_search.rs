@@ -91,7 +91,7 @@ impl EdmdEngine {
     fn overlapping(&self, i: usize, higher_only: bool, found: &mut Vec<Neighbour>) {
         found.clear();
         let reach = 1.0 + self.skin();
-        let around = self.cells.around(self.cells.cell_of(i as u32));
+        let around = self.cells.around_particle(i as u32);
         let a = self.anchors[i];
         self.cells.walk(
             &around,
