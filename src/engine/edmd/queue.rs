@@ -294,8 +294,19 @@ impl CalendarQueue {
         self.node[id as usize].heap_index = pos as u32;
     }
 
-    /// Move on to the next bucket until the heap holds the earliest events.
+    /// Make the heap hold the earliest events (when it is empty and events remain).
+    #[inline(always)]
     fn refill_heap(&mut self) {
+        // the heap holds a few events per bucket: most pops find it non-empty, and then this
+        // check is all they pay
+        if self.heap.is_empty() {
+            self.move_to_next_events();
+        }
+    }
+
+    /// Move on to the next bucket until the heap holds the earliest events.
+    #[inline(never)]
+    fn move_to_next_events(&mut self) {
         let buckets = self.bucket_head.len() as i64;
         while self.heap.is_empty() && self.len > 0 {
             if self.in_buckets == 0 {
