@@ -147,23 +147,30 @@ impl PairApproach {
         }
     }
 
-    /// Approaching, and close enough to touch before `horizon` if it does at all (the gap
-    /// closes no faster than -2 b per unit time): the square-root-free part of the test.
+    /// Approaching, meeting at all (discriminant b^2 - |v|^2 (|r|^2 - d^2) >= 0), and close
+    /// enough to touch before `horizon` (the gap closes no faster than -2 b per unit time):
+    /// the square-root-free part of the test.
     #[inline(always)]
     pub fn may_touch_within(self, horizon: f64) -> bool {
         let approaching = !(self.b >= 0.0);
+        let meets = !(self.discriminant() < 0.0);
         let soon_enough = !(self.gap > -2.0 * self.b * horizon);
-        approaching & soon_enough
+        approaching & meets & soon_enough
+    }
+
+    /// b^2 - |v|^2 (|r|^2 - d^2): negative when the spheres pass each other.
+    #[inline(always)]
+    fn discriminant(self) -> f64 {
+        self.b * self.b - self.v2 * self.gap
     }
 
     /// Time of contact if before `horizon`, else infinite; without branches.
     #[inline(always)]
     pub fn contact_time_within(self, horizon: f64) -> f64 {
-        let PairApproach { b, gap, v2 } = self;
-        let disc = b * b - v2 * gap;
+        let PairApproach { b, gap, .. } = self;
+        let disc = self.discriminant();
         let t = (gap / (-b + disc.max(0.0).sqrt())).max(0.0);
-        let meets = !(disc < 0.0);
-        let hit = self.may_touch_within(horizon) & meets & (t < horizon);
+        let hit = self.may_touch_within(horizon) & (t < horizon);
         if hit { t } else { f64::INFINITY }
     }
 }
