@@ -78,7 +78,7 @@ impl EdmdEngine {
         self.anchors = self.kin.iter().map(|k| k.position).collect();
         let mut found = std::mem::take(&mut self.scratch);
         for i in 0..self.kin.len() {
-            self.overlapping(i, true, &mut found);
+            self.overlapping::<true>(i, &mut found);
             for entry in &found {
                 self.lists.link(i as u32, entry.slot(), entry.image());
             }
@@ -87,8 +87,9 @@ impl EdmdEngine {
     }
 
     /// The particles whose anchors are within d + skin of particle `i`'s (in any periodic
-    /// image), into `found`; with `higher_only`, only those in higher slots.
-    fn overlapping(&self, i: usize, higher_only: bool, found: &mut Vec<Neighbour>) {
+    /// image), into `found`; with `HIGHER_ONLY`, only those in higher slots (a compile-time
+    /// choice: a renewal's test per member is then one comparison).
+    fn overlapping<const HIGHER_ONLY: bool>(&self, i: usize, found: &mut Vec<Neighbour>) {
         found.clear();
         let reach = 1.0 + self.skin();
         let around = self.cells.around_particle(i as u32);
@@ -97,7 +98,9 @@ impl EdmdEngine {
             &around,
             |first| prefetch(&self.anchors[first as usize]),
             |j, image| {
-                let b = self.anchors[j as usize];
+                debug_assert!((j as usize) < self.anchors.len());
+                // SAFETY: cell members are ids of this engine's particles (see `approach`)
+                let b = unsafe { *self.anchors.get_unchecked(j as usize) };
                 let shift = *self.image_shifts.of(image);
                 let d = [
                     a[0] - (b[0] + shift[0]),
@@ -107,7 +110,7 @@ impl EdmdEngine {
                 // whether an anchor is within reach is a coin flip: the entry is written
                 // always and kept by advancing the length, without a branch
                 let near = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach;
-                let wanted = (j as usize != i) & (!higher_only | (j as usize > i));
+                let wanted = (j as usize != i) & (!HIGHER_ONLY | (j as usize > i));
                 found.reserve(1);
                 found.spare_capacity_mut()[0].write(Neighbour::new(j, image));
                 // SAFETY: the entry at the old length was just written (capacity reserved)
@@ -137,7 +140,7 @@ impl EdmdEngine {
         let cell = self.cells.index(self.cells.locate(self.anchors[i]));
         self.cells.relocate(i as u32, cell);
         let mut found = std::mem::take(&mut self.scratch);
-        self.overlapping(i, false, &mut found);
+        self.overlapping::<false>(i, &mut found);
         self.lists.replace(i as u32, &found);
         self.scratch = found;
     }
