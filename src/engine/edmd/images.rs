@@ -56,7 +56,13 @@ impl ImageShifts {
     pub fn new(extents: [f64; 3], periodic: [bool; 3]) -> Self {
         ImageShifts(std::array::from_fn(|index| {
             let k = Image::from_index(index.min(Image::COUNT - 1)).offsets();
-            std::array::from_fn(|a| if periodic[a] { k[a] as f64 * extents[a] } else { 0.0 })
+            std::array::from_fn(|a| {
+                if periodic[a] {
+                    k[a] as f64 * extents[a]
+                } else {
+                    0.0
+                }
+            })
         }))
     }
 
