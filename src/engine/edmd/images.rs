@@ -47,7 +47,8 @@ impl Image {
 }
 
 /// The shift vector of each periodic image, looked up without a bounds check: the 27 vectors
-/// padded to 32, indexed by the code masked to 5 bits (codes are below 27).
+/// padded to 32 (entries 27-31 are never read), indexed by the code masked to 5 bits (codes
+/// are below 27).
 #[derive(Clone, Debug)]
 pub struct ImageShifts([[f64; 3]; 32]);
 
@@ -70,5 +71,31 @@ impl ImageShifts {
     #[inline(always)]
     pub fn of(&self, image: Image) -> &[f64; 3] {
         &self.0[(image.0 & 31) as usize]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The masked table gives each image's shift as computed directly from its offsets: k box
+    /// lengths along periodic axes, none along the others.
+    #[test]
+    fn image_shift_table_agrees_with_the_offsets() {
+        let extents = [3.0, 5.0, 7.0];
+        let periodic = [true, false, true];
+        let shifts = ImageShifts::new(extents, periodic);
+        for index in 0..Image::COUNT {
+            let image = Image::from_index(index);
+            let k = image.offsets();
+            let want: [f64; 3] = std::array::from_fn(|a| {
+                if periodic[a] {
+                    k[a] as f64 * extents[a]
+                } else {
+                    0.0
+                }
+            });
+            assert_eq!(*shifts.of(image), want, "image {index}");
+        }
     }
 }
