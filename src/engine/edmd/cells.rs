@@ -346,10 +346,10 @@ impl CellGrid {
         prefetch_record: impl Fn(u32),
         mut visit: impl FnMut(u32, Image),
     ) {
-        // the occupied cells, gathered without a branch (whether a cell is empty is random)
         if self.prefetch_heads {
             hood.for_each(|cell, _| prefetch(&self.head[cell]));
         }
+        // the occupied cells, gathered without a branch (whether a cell is empty is random)
         let mut occupied = [const { MaybeUninit::<(u32, Image)>::uninit() }; 27];
         let mut count = 0;
         hood.for_each(|cell, image| {
