@@ -1,41 +1,44 @@
-//! The pairs a neighbour search keeps for the square root: the first pass of the contact test
-//! (no root) writes every pair met and keeps it by advancing a count, without a branch; the
-//! second pass reads the kept ones in order.
+//! What a neighbour search keeps of the candidates it meets: every candidate is written and
+//! kept by advancing a count, without a branch (whether a candidate is kept is a coin flip);
+//! the kept ones are then read in order. The contact test's first pass (no square root) keeps
+//! pairs for the second; a list renewal keeps the anchors within reach.
 
 use super::motion::PairApproach;
+use super::neighbours::Neighbour;
 use std::mem::MaybeUninit;
 
-/// Pairs kept by a search's first pass: (contact equation, partner, partner's collision
-/// counter), in the order they were met.
-pub(crate) struct KeptPairs {
+/// Up to `CAPACITY` kept candidates, in the order they were met. A local buffer (its count
+/// lives in a register, not behind a `Vec`'s length in memory), emptied by its owner when full.
+pub(crate) struct Kept<T: Copy, const CAPACITY: usize> {
     /// left uninitialised (zeroing it cost a memset per search); only `..len` is ever read
-    entries: [MaybeUninit<(PairApproach, u32, u32)>; KeptPairs::CAPACITY],
+    entries: [MaybeUninit<T>; CAPACITY],
     len: usize,
 }
 
-impl KeptPairs {
-    const CAPACITY: usize = 32;
+/// Pairs kept by a search's first pass: (contact equation, partner, partner's collision
+/// counter).
+pub(crate) type KeptPairs = Kept<(PairApproach, u32, u32), 32>;
 
+/// Neighbours kept by a list renewal's test of the anchors around it.
+pub(crate) type KeptNeighbours = Kept<Neighbour, 64>;
+
+impl<T: Copy, const CAPACITY: usize> Kept<T, CAPACITY> {
     #[inline(always)]
     pub(crate) fn new() -> Self {
-        KeptPairs {
-            entries: [const { MaybeUninit::uninit() }; Self::CAPACITY],
+        Kept {
+            entries: [const { MaybeUninit::uninit() }; CAPACITY],
             len: 0,
         }
     }
 
-    /// Write the pair and keep it if `keep` (without a branch); true when the buffer is full.
+    /// Write `entry` and keep it if `keep` (without a branch); true when the buffer is full.
     #[inline(always)]
-    pub(crate) fn push_if(
-        &mut self,
-        keep: bool,
-        pair: PairApproach,
-        partner: u32,
-        collisions: u32,
-    ) -> bool {
-        self.entries[self.len].write((pair, partner, collisions));
+    pub(crate) fn push_if(&mut self, keep: bool, entry: T) -> bool {
+        debug_assert!(self.len < CAPACITY);
+        // SAFETY: len < CAPACITY: the owner empties the buffer as soon as it is full
+        unsafe { self.entries.get_unchecked_mut(self.len) }.write(entry);
         self.len += keep as usize;
-        self.len == Self::CAPACITY
+        self.len == CAPACITY
     }
 
     #[inline(always)]
@@ -43,13 +46,36 @@ impl KeptPairs {
         self.len = 0;
     }
 
-    /// The kept pairs, in order.
+    /// The kept entries, in order.
     #[inline(always)]
-    pub(crate) fn pairs(&self) -> impl Iterator<Item = (PairApproach, u32, u32)> + '_ {
-        self.entries[..self.len].iter().map(|entry| {
-            // SAFETY: entries 0..len were written by push_if (the entry at `len` is written
-            // before `len` can move past it)
-            unsafe { entry.assume_init_read() }
-        })
+    pub(crate) fn as_slice(&self) -> &[T] {
+        // SAFETY: entries 0..len were written by push_if (the entry at `len` is written
+        // before `len` can move past it)
+        unsafe { std::slice::from_raw_parts(self.entries.as_ptr().cast::<T>(), self.len) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The buffer keeps exactly the entries pushed with `keep`, in order, and says when full.
+    #[test]
+    fn keeps_the_kept_entries_in_order() {
+        let mut kept = Kept::<u32, 4>::new();
+        let mut want = Vec::new();
+        let mut got = Vec::new();
+        for k in 0..40u32 {
+            let keep = k % 3 != 1;
+            if keep {
+                want.push(k);
+            }
+            if kept.push_if(keep, k) {
+                got.extend_from_slice(kept.as_slice());
+                kept.clear();
+            }
+        }
+        got.extend_from_slice(kept.as_slice());
+        assert_eq!(got, want);
     }
 }

@@ -6,6 +6,7 @@
 use super::super::motion::{ball_exit_time, ball_exit_time_bound, linear_exit_time};
 use super::super::neighbours::Neighbour;
 use super::super::prefetch::prefetch;
+use super::super::search::KeptNeighbours;
 use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
 use crate::engine::edmd::EdmdParams;
 
@@ -94,6 +95,7 @@ impl EdmdEngine {
         let reach = 1.0 + self.skin();
         let around = self.cells.around_particle(i as u32);
         let a = self.anchors[i];
+        let mut kept = KeptNeighbours::new();
         self.cells.walk(
             &around,
             |first| prefetch(&self.anchors[first as usize]),
@@ -107,16 +109,16 @@ impl EdmdEngine {
                     a[1] - (b[1] + shift[1]),
                     a[2] - (b[2] + shift[2]),
                 ];
-                // whether an anchor is within reach is a coin flip: the entry is written
-                // always and kept by advancing the length, without a branch
+                // whether an anchor is within reach is a coin flip: kept without a branch
                 let near = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach;
                 let wanted = (j as usize != i) & (!HIGHER_ONLY | (j as usize > i));
-                found.reserve(1);
-                found.spare_capacity_mut()[0].write(Neighbour::new(j, image));
-                // SAFETY: the entry at the old length was just written (capacity reserved)
-                unsafe { found.set_len(found.len() + (near & wanted) as usize) };
+                if kept.push_if(near & wanted, Neighbour::new(j, image)) {
+                    found.extend_from_slice(kept.as_slice());
+                    kept.clear();
+                }
             },
         );
+        found.extend_from_slice(kept.as_slice());
     }
 
     /// Renew particle `i`'s list (it is at `now`): anchor it where it is (wrapped into the box
