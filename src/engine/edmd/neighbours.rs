@@ -130,10 +130,14 @@ impl NeighbourLists {
                 self.push(entry.slot() as usize, entry.back_to(i));
             }
         }
+        // then i's own list is written in one go, after making room for it
+        while new.len() >= self.stride {
+            self.grow();
+        }
         let start = i as usize * self.stride;
-        self.words[start] = 0;
-        for &entry in new {
-            self.push(i as usize, entry);
+        self.words[start] = new.len() as u32;
+        for (word, entry) in self.words[start + 1..start + 1 + new.len()].iter_mut().zip(new) {
+            *word = entry.0;
         }
     }
 

@@ -124,6 +124,7 @@ impl EdmdEngine {
     /// Renew particle `i`'s list (it is at `now`): anchor it where it is (wrapped into the box
     /// of the grid frame) and list the particles now within reach, editing only the lists of
     /// those that left or joined.
+    #[inline(never)]
     pub(super) fn renew_list(&mut self, i: usize) {
         let offset = self.grid_drift * (self.now - self.grid_epoch);
         let ext = self.params.geometry.extents();
