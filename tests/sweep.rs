@@ -166,18 +166,20 @@ fn malformed_roughness_out_of_range() {
 
 #[test]
 fn malformed_unplaceable_volume_fraction() {
-    // 4 x 4 x 4 lattice sites fit in a 4.5^3 channel with walls: phi <= 64 (pi/6) / 4.5^3 = 0.37
+    // the densest lattice placement puts 108 spheres in a 4.5^3 channel with walls without
+    // contact (phi <= 0.62: a checkerboard of 6 x 6 x 6 points with spacings 0.75, 0.7, 0.75,
+    // nearest distance 1.026); phi = 0.70 asks for 125
     let text = sweep_text("", "        length_over_width: [1.0],\n", "", 10.0, 5.0)
-        .replace("volume_fraction: 0.15", "volume_fraction: 0.45")
+        .replace("volume_fraction: 0.15", "volume_fraction: 0.70")
         .replace("diameter: 4.0", "diameter: 4.5");
     assert_rejected(
         "phi",
         &text,
-        "volume_fraction: 0.45",
+        "volume_fraction: 0.70",
         &[
             "fixed.volume_fraction",
             "cannot be placed",
-            "allowed 1 <= N <= 64",
+            "allowed 1 <= N <= 108",
         ],
     );
 }

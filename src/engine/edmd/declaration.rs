@@ -68,8 +68,10 @@ pub static DECLARATION: EngineDef = EngineDef {
 fn side(v: f64) -> bool {
     v >= 3.0
 }
+/// Below the densest packing of spheres, pi / (3 sqrt 2) (fcc); what a given box can hold is
+/// checked against the placement's capacity ([`lattice_capacity`]).
 fn fraction(v: f64) -> bool {
-    v > 0.0 && v < std::f64::consts::PI / 6.0
+    v > 0.0 && v < std::f64::consts::PI / (3.0 * std::f64::consts::SQRT_2)
 }
 fn inertia(v: f64) -> bool {
     v > 0.0 && v <= 1.0
@@ -137,7 +139,7 @@ const PARAMS: &[ParamDef] = &[
             "phi",
             "1",
             ParamDefault::Derived,
-            "0 < phi < pi/6 (and placeable in the box)",
+            "0 < phi < 0.74 (and placeable in the box: up to ~0.6-0.7)",
             fraction,
             "solid volume fraction N (pi d^3/6) / (L W H); give it or `particles`",
         )
@@ -246,10 +248,10 @@ pub fn geometry(values: &Values) -> BoxGeometry {
     }
 }
 
-/// How many spheres fit on a lattice of spacing d in the channel (what the engine's lattice
-/// placement can do at best): floor(L) x (floor(W - 1) + 1) x floor(H).
+/// How many spheres the engine's lattice placement can put in the channel without contact
+/// (see [`super::setup::placement_capacity`]).
 pub fn lattice_capacity(geometry: &BoxGeometry) -> f64 {
-    geometry.length.floor() * ((geometry.width - 1.0).floor() + 1.0) * geometry.height.floor()
+    super::setup::placement_capacity(geometry) as f64
 }
 
 /// N from phi when N is not given, phi from N; L >= 3; N placeable in the box.
@@ -294,7 +296,7 @@ fn resolve(values: &mut Values) -> Result<(), Problem> {
             },
             format!(
                 "phi = {:.4} (N = {n}) cannot be placed in the {} x {} x {} channel: allowed 1 <= N <= {capacity} \
-                 (phi <= {:.4}, a lattice of spacing d)",
+                 (phi <= {:.4}, the densest lattice placement without contact)",
                 number(values, "volume_fraction"),
                 g.length,
                 g.width,

@@ -12,7 +12,8 @@ pub enum Placement {
     Auto,
     /// random sequential placement without overlap
     Random,
-    /// a simple-cubic-like lattice filling the box, with small random displacements
+    /// a lattice filling the box (simple cubic where it leaves room between spheres, else a
+    /// checkerboard, fcc-like, one), with small random displacements
     Lattice,
     /// an fcc lattice (the box must hold whole unit cells, as in the benchmark workloads)
     Fcc,
