@@ -147,6 +147,17 @@ impl PairApproach {
         }
     }
 
+    /// The coefficients as computed elsewhere (the two-lane first pass).
+    #[inline(always)]
+    pub(crate) fn from_parts(b: f64, gap: f64, v2: f64) -> Self {
+        PairApproach { b, gap, v2 }
+    }
+
+    /// (b, gap, |v|^2).
+    pub fn parts(self) -> [f64; 3] {
+        [self.b, self.gap, self.v2]
+    }
+
     /// Approaching, meeting at all (discriminant b^2 - |v|^2 (|r|^2 - d^2) >= 0), and close
     /// enough to touch before `horizon` (the gap closes no faster than -2 b per unit time):
     /// the square-root-free part of the test.

@@ -13,6 +13,7 @@ use super::prefetch::prefetch;
 
 /// One entry of a list: partner slot (27 bits) and the image of the partner that is near.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(transparent)]
 pub struct Neighbour(u32);
 
 impl Neighbour {
@@ -81,6 +82,16 @@ impl NeighbourLists {
         self.words[start + 1..start + 1 + len]
             .iter()
             .map(|&w| Neighbour(w))
+    }
+
+    /// The neighbours of particle `i`, as a slice.
+    #[inline(always)]
+    pub fn entries(&self, i: usize) -> &[Neighbour] {
+        let start = i * self.stride;
+        let len = self.words[start] as usize;
+        let words = &self.words[start + 1..start + 1 + len];
+        // SAFETY: Neighbour is a transparent u32
+        unsafe { std::slice::from_raw_parts(words.as_ptr().cast::<Neighbour>(), words.len()) }
     }
 
     /// Where particle `i`'s list starts (for prefetching).

@@ -133,20 +133,21 @@ impl EdmdEngine {
     /// the horizon when the pair is met; the second takes the square root only for those, when
     /// the buffer is full and at the end. A later horizon is never longer, so the second pass
     /// (the whole test of `pair_contact_time_within` on the kept pairs, in their order) decides
-    /// exactly as testing every pair would, bit for bit.
+    /// exactly as testing every pair would, bit for bit. `kept` may already hold pairs of the
+    /// first pass (the two-lane pass of a list search).
     #[inline(always)]
     pub(super) fn earliest_among(
         &self,
         i: usize,
         partners: impl Iterator<Item = (u32, Image)>,
+        kept: &mut KeptPairs,
         best: &mut PairCandidate,
         best_dt: &mut f64,
     ) {
-        let mut kept = KeptPairs::new();
         for (j, image) in partners {
-            self.consider(i, j, image, true, &mut kept, best, best_dt);
+            self.consider(i, j, image, true, kept, best, best_dt);
         }
-        self.earliest_kept(&kept, best, best_dt);
+        self.earliest_kept(kept, best, best_dt);
     }
 
     /// The first pass for image `image` of particle `j` as a partner of particle `i`: kept
@@ -175,7 +176,7 @@ impl EdmdEngine {
     /// (brought to `now` on the fly; its stored state is not touched), and `j`'s collision
     /// counter.
     #[inline(always)]
-    fn approach(&self, i: usize, j: u32, image: Image) -> (PairApproach, u32) {
+    pub(super) fn approach(&self, i: usize, j: u32, image: Image) -> (PairApproach, u32) {
         let me = &self.kin[i];
         debug_assert!((j as usize) < self.kin.len());
         // SAFETY: partners come from the cell and neighbour lists, which hold only ids of
@@ -203,7 +204,7 @@ impl EdmdEngine {
 
     /// The second pass: the kept pairs' contact times, in their order, against `best`.
     #[inline(always)]
-    fn earliest_kept(&self, kept: &KeptPairs, best: &mut PairCandidate, best_dt: &mut f64) {
+    pub(super) fn earliest_kept(&self, kept: &KeptPairs, best: &mut PairCandidate, best_dt: &mut f64) {
         for &(pair, partner, partner_collisions) in kept.as_slice() {
             let dt = pair.contact_time_within(*best_dt);
             if dt < *best_dt {

@@ -6,7 +6,7 @@
 use super::super::motion::{ball_exit_time, ball_exit_time_bound, linear_exit_time};
 use super::super::neighbours::Neighbour;
 use super::super::prefetch::prefetch;
-use super::super::search::KeptNeighbours;
+use super::super::search::{KeptNeighbours, KeptPairs};
 use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
 use crate::engine::edmd::EdmdParams;
 
@@ -154,11 +154,26 @@ impl EdmdEngine {
         let (exit_time, exit_kind) = self.list_exit_event(i);
         let mut best = PairCandidate::NONE;
         let mut best_dt = exit_time - self.now;
-        for entry in self.lists.of(i) {
+        let list = self.lists.entries(i);
+        for entry in list {
             prefetch(&self.kin[entry.slot() as usize]);
         }
-        let partners = self.lists.of(i).map(|e| (e.slot(), e.image()));
-        self.earliest_among(i, partners, &mut best, &mut best_dt);
+        // the first pass two partners at a time (see `lanes`), in list order
+        let mut kept = KeptPairs::new();
+        let mut pairs = list.chunks_exact(2);
+        for two in &mut pairs {
+            let partners = [two[0].slot(), two[1].slot()];
+            let found = self.approach_two(i, partners, [two[0].image(), two[1].image()], best_dt);
+            for lane in 0..2 {
+                let entry = (found.pairs[lane], partners[lane], found.collisions[lane]);
+                if kept.push_if(found.may_touch[lane], entry) {
+                    self.earliest_kept(&kept, &mut best, &mut best_dt);
+                    kept.clear();
+                }
+            }
+        }
+        let last = pairs.remainder().iter().map(|e| (e.slot(), e.image()));
+        self.earliest_among(i, last, &mut kept, &mut best, &mut best_dt);
         let (time, kind) = if best.partner != NO_PARTNER {
             (
                 best.time,

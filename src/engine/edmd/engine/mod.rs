@@ -23,6 +23,7 @@ mod boundary;
 mod cell_search;
 mod collide;
 mod event_loop;
+mod lanes;
 mod list_search;
 mod rebuild;
 mod stall;
