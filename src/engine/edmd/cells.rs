@@ -95,15 +95,26 @@ impl Neighbourhood {
     /// Call `visit(flat cell, image)` for every cell.
     #[inline(always)]
     pub fn for_each(&self, mut visit: impl FnMut(usize, Image)) {
-        for &(z, kz) in &self.parts[2][..self.counts[2]] {
-            for &(y, ky) in &self.parts[1][..self.counts[1]] {
-                for &(x, kx) in &self.parts[0][..self.counts[0]] {
-                    visit((z + y + x) as usize, Image::from_code(kz + ky + kx));
+        self.for_each_option(|cell, image, _| visit(cell, image));
+    }
+
+    /// Call `visit(flat cell, image, option per axis)` for every cell; the options index the
+    /// cells along each axis in the order of `AxisSteps::around`.
+    #[inline(always)]
+    fn for_each_option(&self, mut visit: impl FnMut(usize, Image, [usize; 3])) {
+        for (oz, &(z, kz)) in self.parts[2][..self.counts[2]].iter().enumerate() {
+            for (oy, &(y, ky)) in self.parts[1][..self.counts[1]].iter().enumerate() {
+                for (ox, &(x, kx)) in self.parts[0][..self.counts[0]].iter().enumerate() {
+                    visit((z + y + x) as usize, Image::from_code(kz + ky + kx), [ox, oy, oz]);
                 }
             }
         }
     }
 }
+
+/// Squared distances, per axis and option of a neighbourhood (see
+/// [`CellGrid::slab_distances`]), from a point to the slab of cells of that option.
+pub type SlabDistances = [[f64; 3]; 3];
 
 /// The cells next to one cell along one axis, precomputed as (flat-index part, image-code part)
 /// so that a search only adds them up.
@@ -334,6 +345,30 @@ impl CellGrid {
         }
     }
 
+    /// Squared distances from point `p`, in the cell at `coords`, to the slabs of the cells
+    /// around it (`around_coords`): per axis, the options' slabs are at distance p - lo below,
+    /// 0 in the cell's own and hi - p above (0 for a point outside its cell on that side).
+    #[inline(always)]
+    pub fn slab_distances(&self, coords: [usize; 3], p: [f64; 3]) -> SlabDistances {
+        std::array::from_fn(|a| {
+            let steps = &self.steps[a][coords[a]];
+            let (lo, hi) = self.faces[a][coords[a]];
+            let below = (p[a] - lo).max(0.0);
+            let above = (hi - p[a]).max(0.0);
+            let mut d2 = [0.0; 3];
+            let mut option = 0;
+            if steps.lower.is_some() {
+                d2[0] = below * below;
+                option = 1;
+            }
+            // the own cell (0), then the upper one
+            if steps.upper.is_some() {
+                d2[option + 1] = above * above;
+            }
+            d2
+        })
+    }
+
     /// Visit every member `j` of the cells of `hood`, with the image of its cell, in cell and
     /// list order, issuing the loads before any waits on another: read the cells' heads,
     /// keeping the occupied cells; prefetch each first member's link and, through
@@ -344,6 +379,39 @@ impl CellGrid {
         &self,
         hood: &Neighbourhood,
         prefetch_record: impl Fn(u32),
+        visit: impl FnMut(u32, Image),
+    ) {
+        self.walk_where(hood, |_| true, prefetch_record, visit);
+    }
+
+    /// As [`CellGrid::walk`], over the cells of `hood` within reach: the cells whose slabs
+    /// (`distances`, from [`CellGrid::slab_distances`]) add up to less than `reach2`; the
+    /// others are not even read.
+    #[inline(always)]
+    pub fn walk_within(
+        &self,
+        hood: &Neighbourhood,
+        distances: &SlabDistances,
+        reach2: f64,
+        prefetch_record: impl Fn(u32),
+        visit: impl FnMut(u32, Image),
+    ) {
+        self.walk_where(
+            hood,
+            |[ox, oy, oz]| distances[2][oz] + distances[1][oy] + distances[0][ox] < reach2,
+            prefetch_record,
+            visit,
+        );
+    }
+
+    /// The walk over the cells of `hood` for which `wanted(options)` holds (decided without
+    /// a branch, as whether a cell is empty).
+    #[inline(always)]
+    fn walk_where(
+        &self,
+        hood: &Neighbourhood,
+        wanted: impl Fn([usize; 3]) -> bool,
+        prefetch_record: impl Fn(u32),
         mut visit: impl FnMut(u32, Image),
     ) {
         if self.prefetch_heads {
@@ -352,13 +420,13 @@ impl CellGrid {
         // the occupied cells, gathered without a branch (whether a cell is empty is random)
         let mut occupied = [const { MaybeUninit::<(u32, Image)>::uninit() }; 27];
         let mut count = 0;
-        hood.for_each(|cell, image| {
+        hood.for_each_option(|cell, image, options| {
             // SAFETY: the neighbourhood tables hold only cells of this grid
             let first = unsafe { *self.head.get_unchecked(cell) };
             // SAFETY: `for_each` visits at most 27 cells and `count` grows by at most one per
             // cell, so it is below 27 here
             unsafe { occupied.get_unchecked_mut(count) }.write((first, image));
-            count += (first != EMPTY) as usize;
+            count += ((first != EMPTY) & wanted(options)) as usize;
         });
         // SAFETY: entries 0..count were written above
         let occupied =
@@ -497,6 +565,61 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Walking only the cells within reach of a point visits every member within reach that
+    /// the whole walk visits, in the same order, and skips cells: random points in grids with
+    /// periodic and wall axes of 1 to 5 cells of side 1.2-2, reaches from 0.5 to 2.
+    #[test]
+    fn walk_within_reach_skips_only_cells_out_of_reach() {
+        let mut rng = Pcg64::seed_from_u64(9);
+        let mut skipped = 0;
+        for (counts, periodic) in [
+            ([5, 4, 3], [true, true, true]),
+            ([1, 5, 2], [true, false, true]),
+            ([4, 2, 5], [true, false, true]),
+        ] {
+            let side = 1.2 + 0.8 * rng.random::<f64>();
+            let axes: [AxisCells; 3] = std::array::from_fn(|a| {
+                let span = counts[a] as f64 * side;
+                AxisCells::new(0.0, span, span, periodic[a], side)
+            });
+            let n = 300;
+            let mut grid = CellGrid::new(axes, n);
+            let points: Vec<[f64; 3]> = (0..n)
+                .map(|_| std::array::from_fn(|a| axes[a].extent * rng.random::<f64>()))
+                .collect();
+            for (id, p) in points.iter().enumerate() {
+                grid.insert(id as u32, grid.index(grid.locate(*p)));
+            }
+            let shift = |image: Image, a: usize| {
+                image.offsets()[a] as f64 * if axes[a].periodic { axes[a].extent } else { 0.0 }
+            };
+            for round in 0..400 {
+                let id = rng.random_range(0..n);
+                let p = points[id];
+                let reach = 0.5 + 1.5 * rng.random::<f64>();
+                let near = |j: u32, image: Image| {
+                    let q = points[j as usize];
+                    let d2: f64 = (0..3).map(|a| (p[a] - (q[a] + shift(image, a))).powi(2)).sum();
+                    d2 < reach * reach
+                };
+                let coords = grid.coords_of(id as u32);
+                let hood = grid.around_particle(id as u32);
+                let (mut all, mut within) = (Vec::new(), Vec::new());
+                grid.walk(&hood, |_| {}, |j, image| all.push((j, image)));
+                let slabs = grid.slab_distances(coords, p);
+                grid.walk_within(&hood, &slabs, reach * reach, |_| {}, |j, image| {
+                    within.push((j, image))
+                });
+                let near_all: Vec<_> = all.iter().copied().filter(|&(j, k)| near(j, k)).collect();
+                let near_within: Vec<_> =
+                    within.iter().copied().filter(|&(j, k)| near(j, k)).collect();
+                assert_eq!(near_within, near_all, "round {round}: reach {reach}");
+                skipped += all.len() - within.len();
+            }
+        }
+        assert!(skipped > 1000, "only {skipped} members skipped: the pruning never acted");
     }
 
     /// The linked lists hold exactly what a plain vector of member lists holds, through a

@@ -95,9 +95,16 @@ impl EdmdEngine {
         let reach = 1.0 + self.skin();
         let around = self.cells.around_particle(i as u32);
         let a = self.anchors[i];
+        // cells whose nearest point is out of reach are skipped (a corner cell about half the
+        // time): with a margin far above round-off, so that no anchor they hold could pass the
+        // test below
+        let slabs = self.cells.slab_distances(self.cells.coords_of(i as u32), a);
+        let cell_reach = reach + 1e-6;
         let mut kept = KeptNeighbours::new();
-        self.cells.walk(
+        self.cells.walk_within(
             &around,
+            &slabs,
+            cell_reach * cell_reach,
             |first| prefetch(&self.anchors[first as usize]),
             |j, image| {
                 debug_assert!((j as usize) < self.anchors.len());
