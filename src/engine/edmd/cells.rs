@@ -8,7 +8,7 @@
 //! [a, W - a]: leaving an edge cell through its outer face is a wall collision.
 
 use super::images::Image;
-use super::prefetch::prefetch;
+use super::prefetch::prefetch_at;
 use std::mem::MaybeUninit;
 use strength_reduce::StrengthReducedU32;
 
@@ -415,7 +415,7 @@ impl CellGrid {
         mut visit: impl FnMut(u32, Image),
     ) {
         if self.prefetch_heads {
-            hood.for_each(|cell, _| prefetch(&self.head[cell]));
+            hood.for_each(|cell, _| prefetch_at(&self.head, cell));
         }
         // the occupied cells, gathered without a branch (whether a cell is empty is random)
         let mut occupied = [const { MaybeUninit::<(u32, Image)>::uninit() }; 27];
@@ -432,7 +432,7 @@ impl CellGrid {
         let occupied =
             unsafe { std::slice::from_raw_parts(occupied.as_ptr().cast::<(u32, Image)>(), count) };
         for &(first, _) in occupied {
-            prefetch(&self.next[first as usize]);
+            prefetch_at(&self.next, first as usize);
             prefetch_record(first);
         }
         for &(first, image) in occupied {

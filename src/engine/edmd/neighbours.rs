@@ -9,7 +9,7 @@
 //! per event. The stride doubles when a list overflows (rare; deterministic in the state).
 
 pub use super::images::Image;
-use super::prefetch::prefetch;
+use super::prefetch::prefetch_at;
 
 /// One entry of a list: partner slot (27 bits) and the image of the partner that is near.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -94,10 +94,10 @@ impl NeighbourLists {
         unsafe { std::slice::from_raw_parts(words.as_ptr().cast::<Neighbour>(), words.len()) }
     }
 
-    /// Where particle `i`'s list starts (for prefetching).
+    /// Start loading particle `i`'s list into cache.
     #[inline(always)]
-    pub fn head(&self, i: usize) -> &u32 {
-        &self.words[i * self.stride]
+    pub fn prefetch(&self, i: usize) {
+        prefetch_at(&self.words, i * self.stride);
     }
 
     /// Empty every list.
@@ -122,7 +122,7 @@ impl NeighbourLists {
         // the former neighbours' lists are scattered: start loading all of them first
         for k in 0..len {
             let j = Neighbour(self.words[start + 1 + k]).slot() as usize;
-            prefetch(&self.words[j * self.stride]);
+            prefetch_at(&self.words, j * self.stride);
         }
         for k in 0..len {
             let old = Neighbour(self.words[start + 1 + k]);

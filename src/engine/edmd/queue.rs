@@ -7,7 +7,7 @@
 //! redistributed once a year. [`ReferenceQueue`] is the simple version (a B-tree) that tests
 //! check it against. Both pop in exactly the same order: ties in time go to the smaller index.
 
-use super::prefetch::prefetch;
+use super::prefetch::prefetch_at;
 use std::collections::BTreeSet;
 
 /// The interface both queues offer.
@@ -331,7 +331,7 @@ impl CalendarQueue {
             // all and sifting each up in turn builds the same heap as pushing one by one
             let mut id = std::mem::replace(&mut self.bucket_head[slot], NIL);
             while id != NIL {
-                prefetch(&self.node[id as usize]);
+                prefetch_at(&self.node, id as usize);
                 self.heap.push(id);
                 self.in_buckets -= 1;
                 id = self.links[id as usize].next;

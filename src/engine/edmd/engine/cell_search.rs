@@ -115,7 +115,7 @@ impl EdmdEngine {
         let mut kept = KeptPairs::new();
         self.cells.walk(
             hood,
-            |first| prefetch(&self.kin[first as usize]),
+            |first| prefetch_at(&self.kin, first as usize),
             |j, image| {
                 let other = j as usize != i;
                 self.consider(i, j, image, other, &mut kept, &mut best, &mut best_dt);

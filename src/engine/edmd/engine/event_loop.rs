@@ -30,11 +30,11 @@ impl EdmdEngine {
         // now, so that they are in cache when it is processed
         if let Some((_, next)) = self.queue.peek() {
             let next = next as usize;
-            prefetch(&self.kin[next]);
-            prefetch(&self.plan[next]);
-            prefetch(&self.angular[next]);
+            prefetch_at(&self.kin, next);
+            prefetch_at(&self.plan, next);
+            prefetch_at(&self.angular, next);
             if self.uses_lists() {
-                prefetch(self.lists.head(next));
+                self.lists.prefetch(next);
             }
         }
         self.now = t;
@@ -90,15 +90,15 @@ impl EdmdEngine {
             let next = next as usize;
             if let EventKind::Pair { partner, .. } = self.plan[next].event {
                 let j = partner as usize;
-                prefetch(&self.kin[j]);
-                prefetch(&self.angular[j]);
+                prefetch_at(&self.kin, j);
+                prefetch_at(&self.angular, j);
                 if self.uses_lists() {
-                    prefetch(self.lists.head(j));
+                    self.lists.prefetch(j);
                 }
             }
             if self.uses_lists() {
                 for entry in self.lists.of(next) {
-                    prefetch(&self.kin[entry.slot() as usize]);
+                    prefetch_at(&self.kin, entry.slot() as usize);
                 }
             }
         }

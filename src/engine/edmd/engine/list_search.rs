@@ -5,7 +5,7 @@
 
 use super::super::motion::{ball_exit_time, ball_exit_time_bound, linear_exit_time};
 use super::super::neighbours::Neighbour;
-use super::super::prefetch::prefetch;
+use super::super::prefetch::prefetch_at;
 use super::super::search::{KeptNeighbours, KeptPairs};
 use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
 use crate::engine::edmd::EdmdParams;
@@ -105,7 +105,7 @@ impl EdmdEngine {
             &around,
             &slabs,
             cell_reach * cell_reach,
-            |first| prefetch(&self.anchors[first as usize]),
+            |first| prefetch_at(&self.anchors, first as usize),
             |j, image| {
                 debug_assert!((j as usize) < self.anchors.len());
                 // SAFETY: cell members are ids of this engine's particles (see `approach`)
@@ -163,7 +163,7 @@ impl EdmdEngine {
         let mut best_dt = exit_time - self.now;
         let list = self.lists.entries(i);
         for entry in list {
-            prefetch(&self.kin[entry.slot() as usize]);
+            prefetch_at(&self.kin, entry.slot() as usize);
         }
         // the first pass two partners at a time (see `lanes`), in list order
         let mut kept = KeptPairs::new();

@@ -10,7 +10,7 @@ use super::collision::{self, ContactLaw, SphereVelocity};
 use super::images::ImageShifts;
 use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
-use super::prefetch::prefetch;
+use super::prefetch::prefetch_at;
 use super::queue::{CalendarQueue, EventQueue};
 use super::search_policy::SearchPolicy;
 use super::setup;
