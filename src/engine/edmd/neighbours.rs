@@ -119,25 +119,23 @@ impl NeighbourLists {
     pub fn replace(&mut self, i: u32, new: &[Neighbour]) {
         let start = i as usize * self.stride;
         let len = self.words[start] as usize;
+        let old = PaddedWords::of(&self.words[start + 1..start + 1 + len]);
+        // SAFETY: Neighbour is a transparent u32
+        let fresh = PaddedWords::of(unsafe {
+            std::slice::from_raw_parts(new.as_ptr().cast::<u32>(), new.len())
+        });
         // the former neighbours' lists are scattered: start loading all of them first
-        for k in 0..len {
-            let j = Neighbour(self.words[start + 1 + k]).slot() as usize;
-            prefetch_at(&self.words, j * self.stride);
+        for &word in old.entries() {
+            prefetch_at(&self.words, Neighbour(word).slot() as usize * self.stride);
         }
-        for k in 0..len {
-            let old = Neighbour(self.words[start + 1 + k]);
-            if !holds(new.iter().map(|e| e.0), old.0) {
-                self.remove(old.slot() as usize, old.back_to(i));
+        for &word in old.entries() {
+            if !fresh.holds(word) {
+                let gone = Neighbour(word);
+                self.remove(gone.slot() as usize, gone.back_to(i));
             }
         }
-        // i's old list is untouched so far; pushes may move it (growth), so re-find it
         for &entry in new {
-            let start = i as usize * self.stride;
-            let len = self.words[start] as usize;
-            if !holds(
-                self.words[start + 1..start + 1 + len].iter().copied(),
-                entry.0,
-            ) {
+            if !old.holds(entry.0) {
                 self.push(entry.slot() as usize, entry.back_to(i));
             }
         }
@@ -194,12 +192,61 @@ impl NeighbourLists {
     }
 }
 
-/// Whether `list` holds `word`, comparing every entry: where in a list a neighbour sits is
-/// random, so an early exit would be a mispredicted branch per look-up, while the full
-/// comparison of a short list is a few vector instructions.
-#[inline(always)]
-fn holds(list: impl Iterator<Item = u32>, word: u32) -> bool {
-    list.fold(false, |found, w| found | (w == word))
+/// A list's words copied into a buffer padded with a word that no entry is (image codes stop
+/// at 26, so the top five bits are never all set), so that membership is tested four entries
+/// at a time with a few vector compares and no early exit (where a neighbour sits in a list
+/// is random: an early exit would be a mispredicted branch per look-up). Longer lists (never
+/// met in practice) are kept as they are and tested entry by entry.
+struct PaddedWords {
+    padded: [u32; PaddedWords::ROOM],
+    len: usize,
+    long: Vec<u32>,
+}
+
+impl PaddedWords {
+    const ROOM: usize = 32;
+    const NONE: u32 = u32::MAX;
+
+    #[inline(always)]
+    fn of(words: &[u32]) -> Self {
+        let mut padded = [Self::NONE; Self::ROOM];
+        let long = if words.len() <= Self::ROOM {
+            padded[..words.len()].copy_from_slice(words);
+            Vec::new()
+        } else {
+            words.to_vec()
+        };
+        PaddedWords {
+            padded,
+            len: words.len(),
+            long,
+        }
+    }
+
+    #[inline(always)]
+    fn entries(&self) -> &[u32] {
+        if self.len <= Self::ROOM {
+            &self.padded[..self.len]
+        } else {
+            &self.long
+        }
+    }
+
+    /// Whether the list holds `word` (an entry, never the padding word).
+    #[inline(always)]
+    fn holds(&self, word: u32) -> bool {
+        debug_assert!(word != Self::NONE);
+        if self.len <= Self::ROOM {
+            let chunks = self.len.div_ceil(4);
+            self.padded[..4 * chunks]
+                .chunks_exact(4)
+                .fold(false, |found, c| {
+                    found | ((c[0] == word) | (c[1] == word)) | ((c[2] == word) | (c[3] == word))
+                })
+        } else {
+            self.long.contains(&word)
+        }
+    }
 }
 
 #[cfg(test)]
@@ -221,6 +268,22 @@ mod tests {
             }
         }
         assert_eq!(Image::SAME.offsets(), [0, 0, 0]);
+    }
+
+    /// The padded copy finds exactly the words a plain search finds, for lists of every length
+    /// up to and past the padded room (including the word next to the padding's).
+    #[test]
+    fn padded_words_hold_what_the_list_holds() {
+        let mut rng = Pcg64::seed_from_u64(3);
+        for len in 0..=2 * PaddedWords::ROOM + 3 {
+            let words: Vec<u32> = (0..len).map(|_| rng.random_range(0..200u32) * 7).collect();
+            let padded = PaddedWords::of(&words);
+            assert_eq!(padded.entries(), &words[..]);
+            for probe in (0..1400u32).chain([u32::MAX - 1]) {
+                let want = words.contains(&probe);
+                assert_eq!(padded.holds(probe), want, "len {len}, word {probe}");
+            }
+        }
     }
 
     /// Through random links and renewals (with enough neighbours to overflow the initial
