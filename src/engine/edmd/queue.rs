@@ -185,10 +185,12 @@ impl CalendarQueue {
         (abs as u64 & (self.bucket_head.len() as u64 - 1)) as usize
     }
 
+    /// (time, particle) order; evaluated without short-circuit branches (which of two events
+    /// is earlier is a coin flip)
     #[inline(always)]
     fn earlier(&self, a: u32, b: u32) -> bool {
         let (ta, tb) = (self.node[a as usize].time, self.node[b as usize].time);
-        ta < tb || (ta == tb && a < b)
+        (ta < tb) | ((ta == tb) & (a < b))
     }
 
     fn place_event(&mut self, id: u32) {
