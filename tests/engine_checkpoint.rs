@@ -80,37 +80,45 @@ fn resumed_run_with_neighbour_lists_is_bitwise_identical() {
     resume_equals_uninterrupted(dense);
 }
 
-/// A run whose neighbour search is re-chosen during the run: a dense channel (phi = 0.40)
-/// started with cell search switches to neighbour lists at its first snapshot, from its own
-/// bookkeeping. Resumed from a checkpoint taken before the switch (at the start) and from one
-/// taken after it, it ends bitwise identical to the uninterrupted run.
+/// A run whose neighbour search is re-chosen during the run: a dense channel (phi = 0.45)
+/// started with cell search switches to neighbour lists at a snapshot, from its own
+/// bookkeeping. Resumed from a checkpoint taken before the switch and from one taken after
+/// it, it ends bitwise identical to the uninterrupted run.
 #[test]
 fn resumed_run_that_switches_its_search_is_bitwise_identical() {
-    let dense = EdmdParams::channel(10.0, 10.0, 10.0, 0.40, 7);
+    let dense = EdmdParams::channel(10.0, 10.0, 10.0, 0.45, 7);
     let start = || {
         let policy = SearchPolicy::adaptive(NeighbourSearch::Cells, &Default::default());
         EdmdEngine::with_policy(dense.clone(), policy).unwrap()
     };
     let mut straight = start();
     assert_eq!(straight.search(), NeighbourSearch::Cells);
-    run(&mut straight, 0, 1);
-    assert!(
-        matches!(straight.search(), NeighbourSearch::Lists { .. }),
-        "a dense channel should move to neighbour lists"
-    );
-    let reference = run(&mut straight, 1, 6);
+    let switch = (1..=20)
+        .find(|&k| {
+            run(&mut straight, k - 1, k);
+            matches!(straight.search(), NeighbourSearch::Lists { .. })
+        })
+        .expect("a dense channel should move to neighbour lists within 400 cpp");
+    let end = switch + 5;
+    let reference = run(&mut straight, switch, end);
 
     let mut before = start();
-    engine::Engine::snapshot(&mut before);
+    if switch > 1 {
+        run(&mut before, 0, switch - 1);
+    } else {
+        engine::Engine::snapshot(&mut before);
+    }
+    assert_eq!(before.search(), NeighbourSearch::Cells, "checkpoint before the switch");
     let bytes = engine::Engine::checkpoint(&before);
     let mut resumed = engine::restore(&bytes).unwrap();
-    assert_bitwise_equal(&reference, &run(resumed.as_mut(), 0, 6));
+    assert_bitwise_equal(&reference, &run(resumed.as_mut(), switch - 1, end));
 
     let mut after = start();
-    run(&mut after, 0, 3);
+    run(&mut after, 0, switch + 2);
+    assert!(matches!(after.search(), NeighbourSearch::Lists { .. }), "checkpoint after it");
     let bytes = engine::Engine::checkpoint(&after);
     let mut resumed = engine::restore(&bytes).unwrap();
-    assert_bitwise_equal(&reference, &run(resumed.as_mut(), 3, 6));
+    assert_bitwise_equal(&reference, &run(resumed.as_mut(), switch + 2, end));
 }
 
 #[test]
