@@ -169,6 +169,7 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
     let values = engine
         .resolve_values(&values)
         .map_err(|p| bad(format!("{}: {}", p.key, p.message)))?;
+    crate::sweep::grid::check_job_memory(engine, &values).map_err(bad)?;
     let lengths = [
         (Clock::CollisionsPerParticle, args.collisions_per_particle),
         (Clock::Steps, args.steps),

@@ -6,7 +6,7 @@
 
 use super::job::{JobId, JobParams};
 use super::spec::{Source, SpecError, SweepSpec, engine_of};
-use crate::engine::{ParamValue, Values};
+use crate::engine::{EngineDef, ParamValue, Values};
 use std::collections::HashMap;
 
 /// One job of a plan.
@@ -54,6 +54,23 @@ pub fn job_memory_limit() -> f64 {
                 .and_then(|kb| kb.parse::<f64>().ok())
         })
         .map_or(64e9, |kb| kb * 1024.0)
+}
+
+/// Refuse a job whose estimated memory exceeds [`job_memory_limit`], saying how much it needs.
+pub fn check_job_memory(engine: &EngineDef, values: &Values) -> Result<(), String> {
+    let memory = (engine.memory)(values);
+    let limit = job_memory_limit();
+    if memory > limit {
+        return Err(format!(
+            "a job needs about {:.3e} GB of memory ({} = {:.3e}), more than the limit of {:.1} GB \
+             (the machine's memory; set GRANFLOW_MAX_JOB_MEMORY_GB to change it)",
+            memory / 1e9,
+            engine.size_name,
+            (engine.size)(values),
+            limit / 1e9
+        ));
+    }
+    Ok(())
 }
 
 /// Expand a validated spec into the plan.
@@ -131,21 +148,7 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
         let values = engine
             .resolve_values(&values)
             .map_err(|p| at(&p.key, p.message))?;
-        let memory = (engine.memory)(&values);
-        let limit = job_memory_limit();
-        if memory > limit {
-            return Err(at(
-                "fixed",
-                format!(
-                    "a job needs about {:.3e} GB of memory ({} = {:.3e}), more than the limit of {:.1} GB \
-                     (the machine's memory; set GRANFLOW_MAX_JOB_MEMORY_GB to change it)",
-                    memory / 1e9,
-                    engine.size_name,
-                    (engine.size)(&values),
-                    limit / 1e9
-                ),
-            ));
-        }
+        check_job_memory(engine, &values).map_err(|m| at("fixed", m))?;
         let probe = JobParams {
             engine: spec.engine.clone(),
             values,

@@ -307,38 +307,86 @@ struct AxisGrid {
     has_second_neighbour: bool,
 }
 
-/// Every grid along axis `k` whose spacing is at least d/2 (finer grids put same-parity
-/// points closer than d), coarsest first.
-fn axis_grids(g: &BoxGeometry, k: usize) -> Vec<AxisGrid> {
-    let (lo, hi) = centre_ranges(g)[k];
-    let span = hi - lo;
-    if periodic_axes(g)[k] {
-        (1..=span.floor() as usize)
-            .map(|half| {
-                let count = 2 * half;
-                let step = span / count as f64;
-                AxisGrid {
-                    count,
-                    step,
-                    first: lo + 0.5 * step,
-                    has_second_neighbour: true,
-                }
-            })
-            .collect()
-    } else {
-        (1..=(2.0 * span).floor() as usize + 1)
-            .map(|count| AxisGrid {
+/// The grids along one axis: periodic axes hold an even number of points (so that the parity
+/// of the checkerboard continues across the boundary), wall axes any number from contact
+/// plane to contact plane; only spacings of at least d/2 (finer grids put same-parity points
+/// closer than d).
+#[derive(Clone, Copy, Debug)]
+struct AxisChoices {
+    /// centre range along the axis
+    lo: f64,
+    span: f64,
+    periodic: bool,
+}
+
+impl AxisChoices {
+    fn of(g: &BoxGeometry, k: usize) -> Self {
+        let (lo, hi) = centre_ranges(g)[k];
+        AxisChoices {
+            lo,
+            span: hi - lo,
+            periodic: periodic_axes(g)[k],
+        }
+    }
+
+    /// Number of grids; grid `index` (0: the coarsest) has more points than grid index - 1.
+    fn len(&self) -> usize {
+        if self.periodic {
+            self.span.floor() as usize
+        } else {
+            (2.0 * self.span).floor() as usize + 1
+        }
+    }
+
+    /// Grid `index` (below `len`).
+    fn grid(&self, index: usize) -> AxisGrid {
+        if self.periodic {
+            let count = 2 * (index + 1);
+            let step = self.span / count as f64;
+            AxisGrid {
+                count,
+                step,
+                first: self.lo + 0.5 * step,
+                has_second_neighbour: true,
+            }
+        } else {
+            let count = index + 1;
+            AxisGrid {
                 count,
                 step: if count > 1 {
-                    span / (count - 1) as f64
+                    self.span / (count - 1) as f64
                 } else {
                     0.0
                 },
-                first: if count > 1 { lo } else { 0.5 * (lo + hi) },
+                first: if count > 1 {
+                    self.lo
+                } else {
+                    self.lo + 0.5 * self.span
+                },
                 has_second_neighbour: count > 2,
-            })
-            .collect()
+            }
+        }
     }
+
+    /// The indices of the grids within `reach` grids of the one whose spacing is nearest
+    /// `step` (all of them on short axes).
+    fn around(&self, step: f64, reach: usize) -> std::ops::Range<usize> {
+        let count = if self.periodic {
+            self.span / step
+        } else {
+            self.span / step + 1.0
+        };
+        let index = if self.periodic { count / 2.0 - 1.0 } else { count - 1.0 };
+        let index = (index.round().max(0.0) as usize).min(self.len().saturating_sub(1));
+        index.saturating_sub(reach)..(index + reach + 1).min(self.len())
+    }
+}
+
+/// Every grid along axis `k`, coarsest first.
+#[cfg(test)]
+fn axis_grids(g: &BoxGeometry, k: usize) -> Vec<AxisGrid> {
+    let axis = AxisChoices::of(g, k);
+    (0..axis.len()).map(|index| axis.grid(index)).collect()
 }
 
 /// The points (i, j, k) of three axis grids with i + j + k even. With equal spacings h this is
@@ -390,34 +438,57 @@ impl Checkerboard {
         }
         sites
     }
+}
 
-    /// For every pair of grids along x and z, the grids along y from coarsest to finest, as
-    /// checkerboards (the count grows and the nearest distance shrinks along each run).
-    fn runs(g: &BoxGeometry) -> impl Iterator<Item = impl Iterator<Item = Checkerboard>> {
-        let [xs, ys, zs] = [0, 1, 2].map(|k| axis_grids(g, k));
-        let pairs: Vec<(AxisGrid, AxisGrid)> = xs
+/// Grids searched along x and z around a spacing: in boxes longer than this many grids the
+/// best lie within it of the spacing of an even fcc lattice (all grids are searched in shorter
+/// boxes), and the search stays short in any box.
+const GRID_REACH: usize = 24;
+
+/// The spacing h of an fcc lattice at contact, nearest distance h sqrt 2 = d.
+const CONTACT_STEP: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// The pairs of grids along x and z within `GRID_REACH` grids of each spacing in `steps`.
+fn xz_grids(g: &BoxGeometry, steps: &[f64]) -> Vec<(AxisGrid, AxisGrid)> {
+    let (x, z) = (AxisChoices::of(g, 0), AxisChoices::of(g, 2));
+    let within = |axis: &AxisChoices| {
+        let mut indices: Vec<usize> = steps
             .iter()
-            .flat_map(|&x| zs.iter().map(move |&z| (x, z)))
+            .flat_map(|&step| axis.around(step, GRID_REACH))
             .collect();
-        pairs.into_iter().map(move |(x, z)| {
-            let ys = ys.clone();
-            ys.into_iter().map(move |y| Checkerboard([x, y, z]))
-        })
-    }
+        indices.sort_unstable();
+        indices.dedup();
+        indices
+    };
+    let (xs, zs) = (within(&x), within(&z));
+    xs.iter()
+        .flat_map(|&i| zs.iter().map(move |&k| (x.grid(i), z.grid(k))))
+        .collect()
 }
 
 /// The checkerboard lattice (see [`Checkerboard`]) with the largest nearest distance that
-/// holds N sites, if that distance exceeds d; spheres are displaced within a ball of half the
-/// free space (per axis by up to that over sqrt 3), so none touch.
+/// holds N sites, if that distance exceeds d: for each pair of grids along x and z (around
+/// the spacing of an even fcc lattice of N sites and around that at contact), the coarsest
+/// grid along y that gives N sites. Spheres are displaced within a ball of half the free
+/// space (per axis by up to that over sqrt 3), so none touch.
 fn checkerboard(params: &EdmdParams) -> Option<Lattice> {
     let n = params.particles;
+    let g = &params.geometry;
+    let y = AxisChoices::of(g, 1);
+    let ranges = centre_ranges(g);
+    let volume: f64 = ranges.iter().map(|(lo, hi)| (hi - lo).max(1.0)).product();
+    let even_step = (volume / (2.0 * n as f64)).cbrt();
     let mut best: Option<(f64, Checkerboard)> = None;
-    for mut run in Checkerboard::runs(&params.geometry) {
-        if let Some(grid) = run.find(|grid| grid.count() >= n) {
-            let nearest = grid.nearest_distance();
-            if best.is_none_or(|(d, _)| nearest > d) {
-                best = Some((nearest, grid));
-            }
+    for (gx, gz) in xz_grids(g, &[even_step, CONTACT_STEP]) {
+        let board = |index: usize| Checkerboard([gx, y.grid(index), gz]);
+        // counts grow along the y grids: the first with N sites
+        let index = partition_point(y.len(), |k| board(k).count() < n);
+        if index == y.len() {
+            continue;
+        }
+        let nearest = board(index).nearest_distance();
+        if best.is_none_or(|(d, _)| nearest > d) {
+            best = Some((nearest, board(index)));
         }
     }
     let (nearest, grid) = best.filter(|&(d, _)| d > 1.0)?;
@@ -427,13 +498,29 @@ fn checkerboard(params: &EdmdParams) -> Option<Lattice> {
     })
 }
 
-/// The largest number of spheres the lattice placement can put in the box without contact.
+/// The first index in 0..len for which `pred` is false (`pred` holds on a prefix), by
+/// bisection.
+fn partition_point(len: usize, pred: impl Fn(usize) -> bool) -> usize {
+    let (mut lo, mut hi) = (0, len);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if pred(mid) { lo = mid + 1 } else { hi = mid }
+    }
+    lo
+}
+
+/// The largest number of spheres the lattice placement can put in the box without contact:
+/// the simple-cubic lattice with room, or for each pair of grids along x and z around the
+/// contact spacing the finest grid along y whose checkerboard keeps the spheres apart.
 pub fn placement_capacity(g: &BoxGeometry) -> usize {
-    let checkerboard = Checkerboard::runs(g)
-        .filter_map(|run| {
-            run.take_while(|grid| grid.nearest_distance() > 1.0)
-                .map(|grid| grid.count())
-                .last()
+    let y = AxisChoices::of(g, 1);
+    let checkerboard = xz_grids(g, &[CONTACT_STEP])
+        .into_iter()
+        .map(|(gx, gz)| {
+            let board = |index: usize| Checkerboard([gx, y.grid(index), gz]);
+            // nearest distances shrink along the y grids: the last one above d
+            let apart = partition_point(y.len(), |k| board(k).nearest_distance() > 1.0);
+            if apart == 0 { 0 } else { board(apart - 1).count() }
         })
         .max()
         .unwrap_or(0);
