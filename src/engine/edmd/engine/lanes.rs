@@ -162,7 +162,7 @@ mod tests {
         let mut rng = Pcg64::seed_from_u64(5);
         let n = engine.kin.len();
         let specials = [0.0, -0.0, 1.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
-        let mut draw = |rng: &mut Pcg64, scale: f64| -> f64 {
+        let draw = |rng: &mut Pcg64, scale: f64| -> f64 {
             if rng.random::<f64>() < 0.02 {
                 specials[rng.random_range(0..specials.len())]
             } else {
