@@ -112,19 +112,26 @@ fn dense_channels_start_and_flow() {
         params.restitution = 0.9;
         params.initial_temperature = 1.0;
         let n = params.particles;
-        let mut engine = EdmdEngine::new(params.clone())
-            .unwrap_or_else(|e| panic!("phi = {phi}: {e}"));
+        let mut engine =
+            EdmdEngine::new(params.clone()).unwrap_or_else(|e| panic!("phi = {phi}: {e}"));
         let start = engine.snapshot();
         engine
             .advance(StopAt::CollisionsPerParticle(100.0))
             .unwrap_or_else(|e| panic!("phi = {phi}: {e}"));
         let s = engine.snapshot();
         // 100 collisions per particle at a collision rate of order 10-100 per unit time
-        assert!(s.time() > 0.3, "phi = {phi}: only t = {} after 100 cpp", s.time());
+        assert!(
+            s.time() > 0.3,
+            "phi = {phi}: only t = {} after 100 cpp",
+            s.time()
+        );
         let g = params.gravity;
-        let defect = wall_impulse_x(&s)
-            - (n as f64 * g * s.time() - (momentum_x(&s) - momentum_x(&start)));
-        assert!(defect.abs() <= 1e-9 * n as f64 * g * s.time(), "phi = {phi}: defect {defect}");
+        let defect =
+            wall_impulse_x(&s) - (n as f64 * g * s.time() - (momentum_x(&s) - momentum_x(&start)));
+        assert!(
+            defect.abs() <= 1e-9 * n as f64 * g * s.time(),
+            "phi = {phi}: defect {defect}"
+        );
         let r = &p(&s).positions;
         let (length, height) = (params.geometry.length, params.geometry.height);
         let mut closest = f64::INFINITY;
@@ -141,6 +148,9 @@ fn dense_channels_start_and_flow() {
                 closest = closest.min(d2.sqrt());
             }
         }
-        assert!(closest > 1.0 - 1e-9, "phi = {phi}: spheres overlap ({closest} apart)");
+        assert!(
+            closest > 1.0 - 1e-9,
+            "phi = {phi}: spheres overlap ({closest} apart)"
+        );
     }
 }

@@ -108,14 +108,21 @@ fn resumed_run_that_switches_its_search_is_bitwise_identical() {
     } else {
         engine::Engine::snapshot(&mut before);
     }
-    assert_eq!(before.search(), NeighbourSearch::Cells, "checkpoint before the switch");
+    assert_eq!(
+        before.search(),
+        NeighbourSearch::Cells,
+        "checkpoint before the switch"
+    );
     let bytes = engine::Engine::checkpoint(&before);
     let mut resumed = engine::restore(&bytes).unwrap();
     assert_bitwise_equal(&reference, &run(resumed.as_mut(), switch - 1, end));
 
     let mut after = start();
     run(&mut after, 0, switch + 2);
-    assert!(matches!(after.search(), NeighbourSearch::Lists { .. }), "checkpoint after it");
+    assert!(
+        matches!(after.search(), NeighbourSearch::Lists { .. }),
+        "checkpoint after it"
+    );
     let bytes = engine::Engine::checkpoint(&after);
     let mut resumed = engine::restore(&bytes).unwrap();
     assert_bitwise_equal(&reference, &run(resumed.as_mut(), switch + 2, end));

@@ -105,7 +105,11 @@ impl Neighbourhood {
         for (oz, &(z, kz)) in self.parts[2][..self.counts[2]].iter().enumerate() {
             for (oy, &(y, ky)) in self.parts[1][..self.counts[1]].iter().enumerate() {
                 for (ox, &(x, kx)) in self.parts[0][..self.counts[0]].iter().enumerate() {
-                    visit((z + y + x) as usize, Image::from_code(kz + ky + kx), [ox, oy, oz]);
+                    visit(
+                        (z + y + x) as usize,
+                        Image::from_code(kz + ky + kx),
+                        [ox, oy, oz],
+                    );
                 }
             }
         }
@@ -593,7 +597,12 @@ mod tests {
                 grid.insert(id as u32, grid.index(grid.locate(*p)));
             }
             let shift = |image: Image, a: usize| {
-                image.offsets()[a] as f64 * if axes[a].periodic { axes[a].extent } else { 0.0 }
+                image.offsets()[a] as f64
+                    * if axes[a].periodic {
+                        axes[a].extent
+                    } else {
+                        0.0
+                    }
             };
             for round in 0..400 {
                 let id = rng.random_range(0..n);
@@ -601,7 +610,9 @@ mod tests {
                 let reach = 0.5 + 1.5 * rng.random::<f64>();
                 let near = |j: u32, image: Image| {
                     let q = points[j as usize];
-                    let d2: f64 = (0..3).map(|a| (p[a] - (q[a] + shift(image, a))).powi(2)).sum();
+                    let d2: f64 = (0..3)
+                        .map(|a| (p[a] - (q[a] + shift(image, a))).powi(2))
+                        .sum();
                     d2 < reach * reach
                 };
                 let coords = grid.coords_of(id as u32);
@@ -609,17 +620,27 @@ mod tests {
                 let (mut all, mut within) = (Vec::new(), Vec::new());
                 grid.walk(&hood, |_| {}, |j, image| all.push((j, image)));
                 let slabs = grid.slab_distances(coords, p);
-                grid.walk_within(&hood, &slabs, reach * reach, |_| {}, |j, image| {
-                    within.push((j, image))
-                });
+                grid.walk_within(
+                    &hood,
+                    &slabs,
+                    reach * reach,
+                    |_| {},
+                    |j, image| within.push((j, image)),
+                );
                 let near_all: Vec<_> = all.iter().copied().filter(|&(j, k)| near(j, k)).collect();
-                let near_within: Vec<_> =
-                    within.iter().copied().filter(|&(j, k)| near(j, k)).collect();
+                let near_within: Vec<_> = within
+                    .iter()
+                    .copied()
+                    .filter(|&(j, k)| near(j, k))
+                    .collect();
                 assert_eq!(near_within, near_all, "round {round}: reach {reach}");
                 skipped += all.len() - within.len();
             }
         }
-        assert!(skipped > 1000, "only {skipped} members skipped: the pruning never acted");
+        assert!(
+            skipped > 1000,
+            "only {skipped} members skipped: the pruning never acted"
+        );
     }
 
     /// The linked lists hold exactly what a plain vector of member lists holds, through a

@@ -145,7 +145,10 @@ impl NeighbourLists {
         }
         let start = i as usize * self.stride;
         self.words[start] = new.len() as u32;
-        for (word, entry) in self.words[start + 1..start + 1 + new.len()].iter_mut().zip(new) {
+        for (word, entry) in self.words[start + 1..start + 1 + new.len()]
+            .iter_mut()
+            .zip(new)
+        {
             *word = entry.0;
         }
     }

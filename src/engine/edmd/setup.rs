@@ -376,7 +376,11 @@ impl AxisChoices {
         } else {
             self.span / step + 1.0
         };
-        let index = if self.periodic { count / 2.0 - 1.0 } else { count - 1.0 };
+        let index = if self.periodic {
+            count / 2.0 - 1.0
+        } else {
+            count - 1.0
+        };
         let index = (index.round().max(0.0) as usize).min(self.len().saturating_sub(1));
         index.saturating_sub(reach)..(index + reach + 1).min(self.len())
     }
@@ -520,7 +524,11 @@ pub fn placement_capacity(g: &BoxGeometry) -> usize {
             let board = |index: usize| Checkerboard([gx, y.grid(index), gz]);
             // nearest distances shrink along the y grids: the last one above d
             let apart = partition_point(y.len(), |k| board(k).nearest_distance() > 1.0);
-            if apart == 0 { 0 } else { board(apart - 1).count() }
+            if apart == 0 {
+                0
+            } else {
+                board(apart - 1).count()
+            }
         })
         .max()
         .unwrap_or(0);
@@ -602,7 +610,8 @@ mod tests {
                     let want = nearest_pair(&params, &sites);
                     let got = board.nearest_distance();
                     assert!(
-                        (got - want).abs() < 1e-12 * want.max(1.0) || (got.is_infinite() && sites.len() < 2),
+                        (got - want).abs() < 1e-12 * want.max(1.0)
+                            || (got.is_infinite() && sites.len() < 2),
                         "grid {:?}: nearest {got}, all pairs {want}",
                         board.0.map(|a| a.count)
                     );
@@ -622,7 +631,10 @@ mod tests {
             let capacity = placement_capacity(&params.geometry);
             let volume = length * width * height;
             let phi_max = capacity as f64 * std::f64::consts::PI / 6.0 / volume;
-            assert!(phi_max > 0.55, "capacity {capacity} is only phi = {phi_max}");
+            assert!(
+                phi_max > 0.55,
+                "capacity {capacity} is only phi = {phi_max}"
+            );
             for phi in [0.42, 0.45, 0.5, phi_max] {
                 params.particles =
                     ((phi * volume / (std::f64::consts::PI / 6.0)).round() as usize).min(capacity);
@@ -640,7 +652,10 @@ mod tests {
             }
             params.particles = capacity + 1;
             let mut rng = Pcg64::seed_from_u64(3);
-            assert!(lattice_placement(&params, &mut rng).is_err(), "capacity + 1 placed");
+            assert!(
+                lattice_placement(&params, &mut rng).is_err(),
+                "capacity + 1 placed"
+            );
         }
     }
 }

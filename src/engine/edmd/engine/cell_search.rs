@@ -166,7 +166,10 @@ impl EdmdEngine {
         best_dt: &mut f64,
     ) {
         let (pair, collisions) = self.approach(i, j, image);
-        if kept.push_if(pair.may_touch_within(*best_dt) & wanted, (pair, j, collisions)) {
+        if kept.push_if(
+            pair.may_touch_within(*best_dt) & wanted,
+            (pair, j, collisions),
+        ) {
             self.earliest_kept(kept, best, best_dt);
             kept.clear();
         }
@@ -204,7 +207,12 @@ impl EdmdEngine {
 
     /// The second pass: the kept pairs' contact times, in their order, against `best`.
     #[inline(always)]
-    pub(super) fn earliest_kept(&self, kept: &KeptPairs, best: &mut PairCandidate, best_dt: &mut f64) {
+    pub(super) fn earliest_kept(
+        &self,
+        kept: &KeptPairs,
+        best: &mut PairCandidate,
+        best_dt: &mut f64,
+    ) {
         for &(pair, partner, partner_collisions) in kept.as_slice() {
             let dt = pair.contact_time_within(*best_dt);
             if dt < *best_dt {

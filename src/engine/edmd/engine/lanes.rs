@@ -38,7 +38,9 @@ impl EdmdEngine {
         #[cfg(target_arch = "x86_64")]
         {
             // SAFETY: SSE2 is part of the x86-64 baseline
-            unsafe { sse2::approach_two(me, others, shifts, self.now, self.params.gravity, horizon) }
+            unsafe {
+                sse2::approach_two(me, others, shifts, self.now, self.params.gravity, horizon)
+            }
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
@@ -157,11 +159,19 @@ mod tests {
     #[test]
     fn two_lane_first_pass_is_the_scalar_pass_bit_for_bit() {
         let params = EdmdParams::channel(12.0, 10.0, 11.0, 0.2, 1);
-        let mut engine = EdmdEngine::with_search(params, NeighbourSearch::Lists { skin: 0.5 })
-            .expect("channel");
+        let mut engine =
+            EdmdEngine::with_search(params, NeighbourSearch::Lists { skin: 0.5 }).expect("channel");
         let mut rng = Pcg64::seed_from_u64(5);
         let n = engine.kin.len();
-        let specials = [0.0, -0.0, 1.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
+        let specials = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
         let draw = |rng: &mut Pcg64, scale: f64| -> f64 {
             if rng.random::<f64>() < 0.02 {
                 specials[rng.random_range(0..specials.len())]
@@ -192,7 +202,10 @@ mod tests {
                 let (pair, collisions) = engine.approach(i, partners[lane], images[lane]);
                 let (want, got) = (pair.parts(), two.pairs[lane].parts());
                 for (w, g) in want.iter().zip(&got) {
-                    assert!(w.to_bits() == g.to_bits(), "round {round} lane {lane}: {want:?} vs {got:?}");
+                    assert!(
+                        w.to_bits() == g.to_bits(),
+                        "round {round} lane {lane}: {want:?} vs {got:?}"
+                    );
                 }
                 assert_eq!(collisions, two.collisions[lane]);
                 assert_eq!(
