@@ -390,7 +390,7 @@ impl CellGrid {
 
     /// As [`CellGrid::walk`], over the cells of `hood` within reach: the cells whose slabs
     /// (`distances`, from [`CellGrid::slab_distances`]) add up to less than `reach2`; the
-    /// others are not even read.
+    /// others are dropped with the empty ones (their heads are read, their members never).
     #[inline(always)]
     pub fn walk_within(
         &self,
