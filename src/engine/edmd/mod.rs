@@ -4,13 +4,15 @@
 //! - [`collision`]: the pure collision rules (what happens).
 //! - [`motion`]: free flight under gravity and meeting times (when it happens).
 //! - [`cells`], [`neighbours`], [`queue`]: the fast data structures (with a reference queue
-//!   for tests); `images` (periodic image codes), `search` (partner batches) and `prefetch`
+//!   for tests); `images` (periodic image codes), `search` (the buffers that keep candidates
+//!   without a branch) and `prefetch`
 //!   (cache hints) serve them.
 //! - [`setup`]: placement and initial velocities; [`checkpoint`]: the file format.
 //! - [`EdmdEngine`] (`engine/`): the struct and its construction (`mod.rs`), `rebuild`,
-//!   `cell_search` and `list_search` (event prediction), `event_loop`, `collide` (what an event
-//!   does), `stall` (inelastic-collapse check), `boundary` (the [`crate::engine::Engine`]
-//!   trait); [`reference`]: a slow all-pairs engine for tests.
+//!   `cell_search` and `list_search` (event prediction; `lanes`: the contact test's first pass
+//!   for two partners at once), `event_loop`, `collide` (what an event does), `stall`
+//!   (inelastic-collapse check), `boundary` (the [`crate::engine::Engine`] trait);
+//!   [`reference`]: a slow all-pairs engine for tests.
 
 pub mod cells;
 pub mod checkpoint;
