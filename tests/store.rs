@@ -287,13 +287,16 @@ fn outdated_results_are_flagged_and_rerun_on_request() {
     let original: Vec<store::JobResult> = (0..3)
         .map(|i| store::read_result(&job_dir(i)).unwrap())
         .collect();
-    // job 0 as if made by analysis version 0, job 1 by engine version 0 (resealed: valid files)
+    // job 0 as if made by analysis version 0, job 1 by engine version 0 (resealed and logged
+    // as that build would have: valid files)
     let mut old = original[0].clone();
     old.provenance.analysis_version = 0;
-    store::write_result(&job_dir(0), &old).unwrap();
+    let sum = store::write_result(&job_dir(0), &old).unwrap();
+    store::log(&job_dir(0), &store::done_line(&sum)).unwrap();
     let mut old = original[1].clone();
     old.provenance.engine_version = 0;
-    store::write_result(&job_dir(1), &old).unwrap();
+    let sum = store::write_result(&job_dir(1), &old).unwrap();
+    store::log(&job_dir(1), &store::done_line(&sum)).unwrap();
 
     let out = granflow(&["status", f, "--results", r]);
     let text = String::from_utf8_lossy(&out.stdout);
@@ -529,9 +532,11 @@ fn damaged_checkpoints_and_record_logs_are_set_aside_and_recomputed() {
     log2[mid] ^= 0x40;
     std::fs::write(jd[2].join(store::RECORDS_FILE), &log2).unwrap();
 
+    // all three, the record log too: `status` reads what a resume would (and fails)
     let status = granflow(&["status", sweep.tables.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&status.stdout);
-    assert!(text.contains("damaged 2"), "{text}");
+    assert!(text.contains("damaged 3"), "{text}");
+    assert_eq!(status.status.code(), Some(1), "{text}");
 
     // refused, not failed, without --retry-failed; nothing is touched
     let out = run(&[]);
@@ -669,7 +674,7 @@ fn results_and_logs_carry_their_provenance() {
     // completes the log
     let cut: String = log
         .lines()
-        .filter(|l| !l.ends_with(" done"))
+        .filter(|l| !l.contains(" done checksum="))
         .map(|l| format!("{l}\n"))
         .collect();
     assert_ne!(cut, log, "no done line");
@@ -683,8 +688,9 @@ fn results_and_logs_carry_their_provenance() {
     assert!(out.status.success());
     let log = std::fs::read_to_string(jd.join(store::LOG_FILE)).unwrap();
     let events = store::log_events(&log);
+    let last = events.last().unwrap();
     assert!(
-        events.last().unwrap().starts_with("done (logged late"),
+        last.starts_with("done checksum=") && last.contains("(logged late"),
         "{log}"
     );
     assert_eq!(
@@ -728,6 +734,11 @@ fn results_of_older_layouts_keep_their_checksums() {
         1,
     );
     std::fs::write(&path, older.trim_end_matches('\n')).unwrap();
+    // older builds logged a bare `done` (the log names no checksum)
+    let log = std::fs::read_to_string(jd.join(store::LOG_FILE)).unwrap();
+    let bare = format!("done checksum={}", written.checksum);
+    assert!(log.contains(&bare), "{log}");
+    std::fs::write(jd.join(store::LOG_FILE), log.replace(&bare, "done")).unwrap();
     let read = store::read_result(&jd).expect("an older layout is not damage");
     assert_eq!(read.stop_reason, "");
     // (compared as text: the analysis holds NaN where a balance is not known, and NaN != NaN)

@@ -417,7 +417,9 @@ fn resumed_job_is_bitwise_identical() {
         }
         let claim = queue::try_claim(&jd, false).unwrap().unwrap();
         match execute::run_job(job, &claim, None, &mut |_| {}).unwrap() {
-            JobEnd::Finished(r) => queue::write_result(&jd, &r).unwrap(),
+            JobEnd::Finished(r) => {
+                queue::write_result(&jd, &r).unwrap();
+            }
             other => panic!("not finished: {other:?}"),
         }
         jd

@@ -12,6 +12,7 @@
 //! resident memory over the workload (set-up and snapshots included), over N (Linux; elsewhere
 //! the engine's own count of its data structures).
 
+use super::out::outln;
 use crate::engine::dsmc::{DsmcEngine, DsmcParams};
 use crate::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement, SearchPolicy};
 use crate::engine::lga::{LgaEngine, LgaParams};
@@ -405,11 +406,16 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         let r =
             super::bench_job::measure(dir, args.search, args.skin, args.collisions_per_particle)?;
         if args.json {
-            println!("{}", serde_json::to_string_pretty(&[r])?);
+            outln!("{}", serde_json::to_string_pretty(&[r])?);
         } else {
-            println!(
+            outln!(
                 "{}: N = {}, phi = {:.3}: {:.4e} collisions/s, {:.4e} events/s, {:.0} bytes/particle (engine)",
-                r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
+                r.workload,
+                r.n,
+                r.phi,
+                r.collisions_per_s,
+                r.events_per_s,
+                r.bytes_per_particle
             );
         }
         return Ok(());
@@ -448,10 +454,15 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     if args.json {
         eprintln!("machine: {machine}");
     } else {
-        println!("machine: {machine}");
-        println!(
+        outln!("machine: {machine}");
+        outln!(
             "{:<28} {:>7} {:>6} {:>14} {:>14} {:>10}  search",
-            "workload", "n", "phi", "collisions/s", "events/s", "bytes/part"
+            "workload",
+            "n",
+            "phi",
+            "collisions/s",
+            "events/s",
+            "bytes/part"
         );
     }
     // several workloads: each in a process of its own
@@ -475,9 +486,14 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             } else {
                 name
             };
-            println!(
+            outln!(
                 "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}",
-                r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
+                r.workload,
+                r.n,
+                r.phi,
+                r.collisions_per_s,
+                r.events_per_s,
+                r.bytes_per_particle
             );
         }
         results.push(r);
@@ -489,7 +505,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             measure_lga(w, args.site_updates)?
         };
         if !args.json {
-            println!(
+            outln!(
                 "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.1}  {:.4e} site updates/s",
                 r.workload,
                 r.n,
@@ -509,7 +525,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             measure_dsmc(w, args.moves)?
         };
         if !args.json {
-            println!(
+            outln!(
                 "{:<28} {:>7} {:>6} {:>14.4e} {:>14.4e} {:>10.1}  {:.4e} moves/s",
                 r.workload,
                 r.n,
@@ -523,7 +539,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         results.push(r);
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&results)?);
+        outln!("{}", serde_json::to_string_pretty(&results)?);
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! `--markdown` prints README's parameter tables (generated, so README cannot drift from the
 //! declarations: a test compares them).
 
+use super::out::{out, outln};
 use crate::engine::registry;
 use clap::Args;
 
@@ -37,19 +38,22 @@ pub fn markdown() -> String {
 
 pub fn run(args: EnginesArgs) -> anyhow::Result<()> {
     if args.markdown {
-        print!("{}", markdown());
+        out!("{}", markdown());
         return Ok(());
     }
     for e in registry::ENGINES {
-        println!("{}: {}", e.name, e.title);
-        println!("  run length: {}", e.clock_names());
+        outln!("{}: {}", e.name, e.title);
+        outln!("  run length: {}", e.clock_names());
         for d in e.params {
-            println!(
+            outln!(
                 "  {:<24} {:<8} {}  ({})",
-                d.name, d.symbol, d.doc, d.allowed
+                d.name,
+                d.symbol,
+                d.doc,
+                d.allowed
             );
         }
-        println!(
+        outln!(
             "  counters: {}",
             e.counters
                 .iter()
@@ -57,7 +61,7 @@ pub fn run(args: EnginesArgs) -> anyhow::Result<()> {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        println!("  analysis: {:?}", e.analysis);
+        outln!("  analysis: {:?}", e.analysis);
     }
     Ok(())
 }

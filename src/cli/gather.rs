@@ -1,6 +1,7 @@
 //! `granflow gather results/<sweep>`: write the Parquet tables of a results directory from its
 //! job directories alone.
 
+use super::out::outln;
 use super::source::SweepSource;
 use crate::sweep::tables;
 use clap::Args;
@@ -28,7 +29,7 @@ pub fn run(args: GatherArgs) -> anyhow::Result<()> {
         )
         .map(|n| format!("{n}.parquet"))
         .collect();
-    println!(
+    outln!(
         "wrote {} in {}: {} jobs, {} done{}",
         names.join(", "),
         dirs.tables.display(),

@@ -5,6 +5,7 @@ mod bench_job;
 mod completions;
 mod engines;
 mod gather;
+mod out;
 mod params;
 mod phase_diagram;
 mod plan;

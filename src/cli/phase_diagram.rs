@@ -2,6 +2,7 @@
 //! and write PNG and SVG plots into the results directory; with `--minimum-of C --along R`
 //! the grid of where column C has an interior minimum along parameter R.
 
+use super::out::{out, outln};
 use super::source::SweepSource;
 use crate::sweep::phase::{Frame, PhaseDiagram, choose_axes, title};
 use crate::sweep::{BadInput, tables};
@@ -126,9 +127,9 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
         .collect();
     let others = crate::sweep::phase::varying_besides(&sweep, &shown);
     if !others.is_empty() {
-        println!("note: {others:?} also vary; their jobs share cells (labels joined by /)");
+        outln!("note: {others:?} also vary; their jobs share cells (labels joined by /)");
     }
-    print!("{}", diagram.table());
+    out!("{}", diagram.table());
     let (png, svg) = match &args.minimum_of {
         Some(column) => {
             let stem = format!("minimum-{column}-{}", diagram.x);
@@ -146,6 +147,6 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
         }
         None => write_plots(&diagram, &dirs.tables)?,
     };
-    println!("plots: {} {}", png.display(), svg.display());
+    outln!("plots: {} {}", png.display(), svg.display());
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `granflow plan SWEEP.ron`: list the jobs of a sweep (index, id, state, N, estimated work,
 //! swept parameters, seed) without running anything.
 
+use super::out::outln;
 use crate::sweep::{load_sweep, phase, store, tables};
 use clap::Args;
 use std::path::PathBuf;
@@ -36,7 +37,7 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
     {
         swept.push(first.name);
     }
-    println!(
+    outln!(
         "sweep {}: {} jobs; tables in {}, jobs in {}",
         sweep.name,
         sweep.plan.len(),
@@ -51,7 +52,7 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
         header.push_str(&format!("  {s:>w$}", w = s.len().max(8)));
     }
     header.push_str("  seed");
-    println!("{header}");
+    outln!("{header}");
     let mut total_work = 0.0;
     for j in &jobs {
         let p = &j.job.params;
@@ -78,9 +79,9 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
             ));
         }
         line.push_str(&format!("  {}", p.seed));
-        println!("{line}");
+        outln!("{line}");
     }
-    println!(
+    outln!(
         "estimated work: {total_work:.3e} {unit} (about {:.0} core-seconds at {:.1e} {unit}/s)",
         total_work / engine.work_rate,
         engine.work_rate,

@@ -2,6 +2,7 @@
 //! column over a swept parameter, one curve per value of another, with error bars; printed as
 //! a table with each curve's minimum and written as PNG and SVG into the results directory.
 
+use super::out::{out, outln};
 use super::source::SweepSource;
 use crate::sweep::curves::CurvePlot;
 use crate::sweep::phase::swept_in;
@@ -49,13 +50,13 @@ pub fn run(args: PlotArgs) -> anyhow::Result<()> {
         .collect();
     let others = crate::sweep::phase::varying_besides(&sweep, &shown);
     if !others.is_empty() {
-        println!("note: {others:?} also vary; their jobs are averaged into the same points");
+        outln!("note: {others:?} also vary; their jobs are averaged into the same points");
     }
-    print!("{}", plot.table());
+    out!("{}", plot.table());
     let png = dirs.tables.join(format!("{}.png", plot.stem()));
     let svg = dirs.tables.join(format!("{}.svg", plot.stem()));
     plot.write_png(&png)?;
     plot.write_svg(&svg)?;
-    println!("plots: {} {}", png.display(), svg.display());
+    outln!("plots: {} {}", png.display(), svg.display());
     Ok(())
 }

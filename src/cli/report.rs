@@ -2,6 +2,7 @@
 //! diagram, a sortable table of the jobs, and per job its parameters, provenance, figures and
 //! structure evolution), written into the results directory; works while the sweep runs.
 
+use super::out::outln;
 use super::source::SweepSource;
 use clap::Args;
 
@@ -27,8 +28,8 @@ pub struct ReportArgs {
 pub fn run(args: ReportArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let path = crate::report::write_report(&sweep, &dirs, args.x.as_deref(), args.y.as_deref())?;
-    println!("report: {}", path.display());
-    println!(
+    outln!("report: {}", path.display());
+    outln!(
         "open it in a browser (e.g. xdg-open {}); it is one file with every figure inside",
         path.display()
     );

@@ -2,6 +2,7 @@
 //! parameter values) and print progress, the engine's counters and, with `--analyse`, its
 //! analysis. Bad input is rejected (exit 2) before anything is printed.
 
+use super::out::outln;
 use super::params::ParamFlags;
 use crate::analysis::{self, Analyser, Analysis, JobAnalysis};
 use crate::engine::{Clock, Content, EngineDef, ParamValue, Snapshot, StopAt, Values, registry};
@@ -246,7 +247,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
         std::fs::create_dir_all(dir)
             .map_err(|e| anyhow::anyhow!("creating {}: {e}", dir.display()))?;
     }
-    println!("{}: {}", engine_def.name, engine_def.title);
+    outln!("{}: {}", engine_def.name, engine_def.title);
     let shown: Vec<String> = engine_def
         .params
         .iter()
@@ -256,7 +257,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
                 .map(|v| format!("{} = {}", d.symbol, crate::sweep::phase::fmt_value(v)))
         })
         .collect();
-    println!("{}; seed {}", shown.join(", "), args.seed);
+    outln!("{}; seed {}", shown.join(", "), args.seed);
     let clock = plan.clock;
     let started = Instant::now();
     let first = engine.snapshot();
@@ -274,7 +275,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
     if args.analyse {
         records.push(plan.analyser.record(&first).map_err(anyhow::Error::msg)?);
     }
-    println!("{header}");
+    outln!("{header}");
     let mut next = 0.0;
     while next < plan.length {
         next = (next + plan.every).min(plan.length);
@@ -304,7 +305,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
             " {:>12.3e}",
             s.progress.events as f64 / started.elapsed().as_secs_f64()
         ));
-        println!("{line}");
+        outln!("{line}");
     }
     let s = engine.snapshot();
     let secs = started.elapsed().as_secs_f64();
@@ -314,7 +315,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
         .iter()
         .map(|(k, v)| format!("{v} {}", k.replace('_', " ")))
         .collect();
-    println!(
+    outln!(
         "done in {secs:.1} s: {}; {:.3e} events/s",
         counters.join(", "),
         s.progress.events as f64 / secs
@@ -334,9 +335,9 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
 
 /// Print an analysis' summary as `key: value` lines (kinds without a dedicated printout).
 fn print_summary(a: &Analysis) {
-    println!("\n== analysis ==");
+    outln!("\n== analysis ==");
     for (k, v) in a.summary() {
-        println!("{k}: {v}");
+        outln!("{k}: {v}");
     }
 }
 
@@ -389,8 +390,8 @@ fn write_snapshot_files(
 /// Print a structure analysis: label and the numbers behind it, evolution, profiles.
 fn print_structure(a: &JobAnalysis) {
     let s = &a.summary;
-    println!("\n== analysis ==");
-    println!(
+    outln!("\n== analysis ==");
+    outln!(
         "label: {}{}{}",
         s.label,
         if s.humps > 0 {
@@ -404,20 +405,31 @@ fn print_structure(a: &JobAnalysis) {
             ""
         }
     );
-    println!(
+    outln!(
         "steady: {}; window {:.0} .. {:.0} collisions/particle ({} snapshots)",
-        s.steady, s.window_start, s.window_end, s.steady_snapshots
+        s.steady,
+        s.window_start,
+        s.window_end,
+        s.steady_snapshots
     );
     if !s.note.is_empty() {
-        println!("note: {}", s.note);
+        outln!("note: {}", s.note);
     }
-    println!(
+    outln!(
         "grid {} x {} x {}, N = {}, shot-noise power per mode P0 = {:.3e}",
-        s.grid_x, s.grid_y, s.grid_z, s.particles, s.noise_level
+        s.grid_x,
+        s.grid_y,
+        s.grid_z,
+        s.particles,
+        s.noise_level
     );
-    println!(
+    outln!(
         "{:<16} {:>12} {:>10} {:>10} {:>13}",
-        "family", "power", "P/noise", "threshold", "significance"
+        "family",
+        "power",
+        "P/noise",
+        "threshold",
+        "significance"
     );
     let rows = [
         ("transverse", s.power_transverse, s.ratio_transverse),
@@ -449,23 +461,26 @@ fn print_structure(a: &JobAnalysis) {
         s.significance_spanwise,
     ];
     for (((name, p, r), t), g) in rows.into_iter().zip(thresholds).zip(significance) {
-        println!("{name:<16} {p:>12.4e} {r:>10.2} {t:>10.2} {g:>13.2}");
+        outln!("{name:<16} {p:>12.4e} {r:>10.2} {t:>10.2} {g:>13.2}");
     }
-    println!(
+    outln!(
         "family peaks (ratio/threshold): {}",
         analysis::modes::joined(&s.family_peaks)
     );
-    println!(
+    outln!(
         "antisymmetric: dominant k_x = {}, coherence {:.2}",
-        s.antisymmetric_kx, s.antisymmetric_coherence
+        s.antisymmetric_kx,
+        s.antisymmetric_coherence
     );
-    println!(
+    outln!(
         "dominant xy modes: {}",
         analysis::modes::joined(&s.dominant_modes)
     );
-    println!(
+    outln!(
         "mean E_trans/N = {:.5}, E_rot/N = {:.5}, slip velocity U_x(wall) = {:.4}",
-        s.mean_translational_energy, s.mean_rotational_energy, s.slip_velocity
+        s.mean_translational_energy,
+        s.mean_rotational_energy,
+        s.slip_velocity
     );
     let evolution: Vec<String> = a
         .evolution
@@ -475,11 +490,17 @@ fn print_structure(a: &JobAnalysis) {
             h => format!("{} ({h}) @ {:.0}", c.label, c.collisions_per_particle),
         })
         .collect();
-    println!("evolution (per snapshot): {}", evolution.join(" -> "));
+    outln!("evolution (per snapshot): {}", evolution.join(" -> "));
     let bins = a.profiles.iter().filter(|p| p.quantity == "phi").count();
-    println!(
+    outln!(
         "{:>4} {:>7} {:>8} {:>9} {:>9} {:>9} {:>9}",
-        "bin", "y", "phi", "u_x", "omega_z", "T", "theta"
+        "bin",
+        "y",
+        "phi",
+        "u_x",
+        "omega_z",
+        "T",
+        "theta"
     );
     for b in 0..bins as u32 {
         let v = |q: &str| {
@@ -493,7 +514,7 @@ fn print_structure(a: &JobAnalysis) {
             .iter()
             .find(|p| p.bin == b)
             .map_or(f64::NAN, |p| p.y);
-        println!(
+        outln!(
             "{b:>4} {y:>7.2} {:>8.4} {:>9.4} {:>9.4} {:>9.4} {:>9.4}",
             v("phi"),
             v("u_x"),

@@ -1,6 +1,7 @@
 //! `granflow slurm submit|status`: run a sweep on a Slurm cluster as job arrays, and show
 //! where its jobs are in Slurm.
 
+use super::out::{out, outln};
 use crate::slurm::{self, RunnerLink, SbatchOptions, SubmitOptions};
 use anyhow::Context;
 use clap::{Args, Subcommand};
@@ -120,7 +121,7 @@ fn submit(a: SubmitArgs) -> anyhow::Result<()> {
     let out = slurm::submit(&RunnerLink, &opts)
         .with_context(|| format!("granflow slurm submit {}", a.sweep.display()))?;
     let jobs = out.sweep.job_ids.len();
-    println!(
+    outln!(
         "sweep '{}': {jobs} jobs, {} jobs per task, {} array(s) (MaxArraySize {} from {})",
         out.sweep.name,
         opts.jobs_per_task,
@@ -129,16 +130,16 @@ fn submit(a: SubmitArgs) -> anyhow::Result<()> {
         out.max_array_size_source
     );
     for s in &out.scripts {
-        println!("script: {}", s.display());
+        outln!("script: {}", s.display());
     }
     if opts.dry_run {
-        println!("dry run: nothing submitted (submit a script by hand with `sbatch <script>`)");
+        outln!("dry run: nothing submitted (submit a script by hand with `sbatch <script>`)");
         return Ok(());
     }
     for id in &out.array_job_ids {
-        println!("submitted array job {id}");
+        outln!("submitted array job {id}");
     }
-    println!(
+    outln!(
         "logs: {}\nfollow with: granflow status {}   (or: granflow slurm status {})",
         slurm::script::log_dir(&out.sweep.sweep_dir).display(),
         out.sweep.sweep_dir.display(),
@@ -149,8 +150,8 @@ fn submit(a: SubmitArgs) -> anyhow::Result<()> {
 
 fn status(a: StatusArgs) -> anyhow::Result<()> {
     match slurm::slurm_status(&a.results_dir)? {
-        Some(st) => print!("{st}"),
-        None => println!(
+        Some(st) => out!("{st}"),
+        None => outln!(
             "{}: not submitted to Slurm (no slurm/submissions.json)",
             a.results_dir.display()
         ),

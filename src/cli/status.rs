@@ -1,6 +1,7 @@
 //! `granflow status [SWEEP.ron | results/<sweep>]`: counts by state, per-job progress and
 //! failures with their errors.
 
+use super::out::{out, outln};
 use super::source::SweepSource;
 use crate::sweep::{store, store::JobState, tables};
 use clap::Args;
@@ -96,20 +97,20 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let jobs = tables::collect(&sweep, &dirs);
     if args.json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&status_json(&sweep, &dirs, &jobs))?
         );
-        return Ok(());
+        return damaged_error(&jobs);
     }
     let count = |name: &str| jobs.iter().filter(|j| j.state.name() == name).count();
-    println!(
+    outln!(
         "sweep {} ({} jobs) in {}",
         sweep.name,
         jobs.len(),
         dirs.tables.display()
     );
-    println!(
+    outln!(
         "  done {}  running {}  partial {}  pending {}  failed {}  damaged {}",
         count("done"),
         count("running"),
@@ -182,10 +183,28 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
             }
         };
         let point = crate::sweep::phase::point_text(sweep.engine(), &j.job.params, &swept);
-        println!("  [{:>3}] {}  {point}  {line}", j.job.index, j.job.id);
+        outln!("  [{:>3}] {}  {point}  {line}", j.job.index, j.job.id);
     }
     if let Some(slurm) = crate::slurm::slurm_status(&dirs.tables)? {
-        print!("{slurm}");
+        out!("{slurm}");
     }
+    damaged_error(&jobs)
+}
+
+/// The command fails (exit 1) when a job's files are damaged, after reporting everything: a
+/// script that checks `status` must not read a damaged sweep as healthy.
+fn damaged_error(jobs: &[tables::GatheredJob]) -> anyhow::Result<()> {
+    let damaged: Vec<&str> = jobs
+        .iter()
+        .filter(|j| matches!(j.state, JobState::Damaged { .. }))
+        .map(|j| j.job.id.0.as_str())
+        .collect();
+    anyhow::ensure!(
+        damaged.is_empty(),
+        "{} damaged jobs ({}): `granflow run --retry-failed` sets their damaged files aside and \
+         recomputes them",
+        damaged.len(),
+        damaged.join(", ")
+    );
     Ok(())
 }

@@ -59,8 +59,7 @@ pub fn run_job(
     let (mut engine, mut records, mut log, mut k, wall_before) = match store::read_checkpoint(dir)?
     {
         Some(cp) => {
-            let records = store::load_records(dir, &cp)?;
-            let log = RecordLog::open(dir, Some(&cp))?;
+            let (log, records) = RecordLog::resume(dir, &job.id.0, &cp)?;
             store::log(dir, &format!("resume at snapshot {} {build}", cp.snapshot))?;
             let engine: Box<dyn Engine> = engine::restore(&cp.engine)?;
             (engine, records, log, cp.snapshot, cp.wall_seconds)
@@ -69,7 +68,7 @@ pub fn run_job(
             let mut engine = job.params.build_engine()?;
             let snap = engine.snapshot();
             let records = vec![analyser.record(&snap).map_err(anyhow::Error::msg)?];
-            let mut log = RecordLog::open(dir, None)?;
+            let mut log = RecordLog::start(dir, &job.id.0)?;
             log.append(&records[0])?;
             log.sync()?;
             // checkpoint 0 first, then the log line: a job is "started" once its initial
@@ -168,6 +167,7 @@ pub fn run_job(
     provenance.started = store::first_start(dir).unwrap_or_default();
     provenance.finished = crate::provenance::now();
     Ok(JobEnd::Finished(Box::new(JobResult {
+        format: store::RESULT_FORMAT,
         id: job.id.0.clone(),
         engine: job.params.engine.clone(),
         particles: engine.particle_count(),

@@ -40,10 +40,13 @@ pub const EXIT_RESOURCE: u8 = 75;
 /// ENOSPC, EDQUOT, EFBIG, EIO, EROFS (Linux numbers).
 const RESOURCE_ERRNOS: &[i32] = &[28, 122, 27, 5, 30];
 
+/// Whether an OS error number is a resource error.
+pub fn is_resource_errno(n: i32) -> bool {
+    RESOURCE_ERRNOS.contains(&n)
+}
+
 fn is_resource_io(e: &std::io::Error) -> bool {
-    if e.raw_os_error()
-        .is_some_and(|n| RESOURCE_ERRNOS.contains(&n))
-    {
+    if e.raw_os_error().is_some_and(is_resource_errno) {
         return true;
     }
     e.get_ref()

@@ -113,8 +113,18 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         let dir = dirs.job_dir(&job.id);
         store::init_job_dir(&dir, job)?;
         // with --retry-failed, done results are read and checked too (damaged ones are then
-        // set aside and recomputed)
-        match store::job_state_checked(&dir, opts.retry_failed) {
+        // set aside and recomputed; a damaged parameters file is set aside and written anew)
+        let mut state = store::job_state_checked(&dir, opts.retry_failed);
+        if let JobState::Damaged {
+            file: store::PARAMS_FILE,
+            reason,
+        } = &state
+            && opts.retry_failed
+            && store::repair_params(&dir, job, reason)?
+        {
+            state = store::job_state_checked(&dir, true);
+        }
+        match state {
             JobState::Done if opts.rerun_outdated => {
                 let def = job.params.def();
                 match store::retire_if_outdated(&dir, def.version, def.analysis.version())? {
@@ -239,8 +249,8 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                     Outcome::ClaimLost(_) => unreachable!("handled above"),
                     Outcome::Halted(err) => halt(job, dir, err),
                     Outcome::Finished(result) => match store::write_result(dir, result) {
-                        Ok(()) => {
-                            let _ = store::log(dir, "done");
+                        Ok(checksum) => {
+                            let _ = store::log(dir, &store::done_line(&checksum));
                             counts.lock().expect("counts").0 += 1;
                             format!(
                                 "done    {} [{}]: {}, {:.1} s, {:.3e} events/s",

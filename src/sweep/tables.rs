@@ -41,12 +41,24 @@ pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
         .map(|job| {
             let dir = dirs.job_dir(&job.id);
             let mut state = store::job_state(&dir);
+            // a partial job's checkpoint and the records it covers are read and checked (a
+            // resume needs them); a done job's result and parameters file
+            if matches!(state, JobState::Partial(_)) {
+                state = store::job_state_checked(&dir, true);
+            }
             let result = if state == JobState::Done {
-                match store::read_result(&dir) {
+                let checked = store::read_result(&dir)
+                    .map_err(|e| (store::RESULT_FILE, e))
+                    .and_then(|r| {
+                        store::read_params(&dir)
+                            .map(|_| r)
+                            .map_err(|e| (store::PARAMS_FILE, e))
+                    });
+                match checked {
                     Ok(r) => Some(r),
-                    Err(e) => {
+                    Err((file, e)) => {
                         state = JobState::Damaged {
-                            file: store::RESULT_FILE,
+                            file,
                             reason: format!("{e:#}"),
                         };
                         None

@@ -1,6 +1,7 @@
-//! `checkpoint.bin`: the engine's sealed state at a snapshot and the length of the record log
-//! it covers (postcard, then a CRC-32). Format 1 (before engines were plug-ins) held the
-//! structure records inline; it still reads.
+//! `checkpoint.bin`: the engine's sealed state at a snapshot, the job it belongs to, and the
+//! length and digest of the record log it covers (postcard, then a CRC-32). Older formats
+//! still read: format 1 (before engines were plug-ins) held the structure records inline,
+//! format 3 had no digest of the record log.
 
 use super::{CHECKPOINT_FILE, write_atomic};
 use crate::analysis::{BinSums, Record, SnapshotRecord};
@@ -8,8 +9,9 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Format of `checkpoint.bin` written now (1: the structure records inline; 3: the records in
-/// the record log, the checkpoint says how much of it is its own).
-const CHECKPOINT_FORMAT: u32 = 3;
+/// the record log, the checkpoint says how much of it is its own; 4: and the SHA-256 of that
+/// part of the log, header included).
+const CHECKPOINT_FORMAT: u32 = 4;
 
 /// What a job's checkpoint file holds (postcard, followed by a CRC-32 of the bytes).
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -20,7 +22,8 @@ pub struct JobCheckpoint {
     pub snapshot: u32,
     /// [`crate::engine::Engine::checkpoint`] bytes taken right after snapshot k
     pub engine: Vec<u8>,
-    /// records of snapshots 0..=k in the record log: how many, and its length in bytes
+    /// records of snapshots 0..=k in the record log: how many, and their length in bytes
+    /// (after the log's header)
     pub records: u64,
     pub records_bytes: u64,
     /// wall-clock seconds spent up to this checkpoint (informational)
@@ -29,9 +32,25 @@ pub struct JobCheckpoint {
     pub progress: crate::engine::Progress,
     /// the job it belongs to (a checkpoint copied into another job's directory is refused)
     pub job_id: String,
+    /// SHA-256 (hex) of the record log's header and covered frames (empty in format 3)
+    pub records_digest: String,
     /// the records of a format-1 checkpoint, which held them itself
     #[serde(skip)]
     pub legacy_records: Option<Vec<Record>>,
+}
+
+/// Format 3: as now, without the digest of the record log (frozen: postcard needs the exact
+/// layout).
+#[derive(Deserialize)]
+struct JobCheckpointV3 {
+    format: u32,
+    snapshot: u32,
+    engine: Vec<u8>,
+    records: u64,
+    records_bytes: u64,
+    wall_seconds: f64,
+    progress: crate::engine::Progress,
+    job_id: String,
 }
 
 /// Format 1 (before engines were plug-ins): the records were the structure analysis's, in
@@ -104,7 +123,7 @@ impl JobCheckpoint {
         wall_seconds: f64,
         progress: crate::engine::Progress,
     ) -> Self {
-        let (records, records_bytes) = log.position();
+        let (records, records_bytes, records_digest) = log.position();
         JobCheckpoint {
             format: CHECKPOINT_FORMAT,
             snapshot,
@@ -114,6 +133,7 @@ impl JobCheckpoint {
             wall_seconds,
             progress,
             job_id: job_id.to_string(),
+            records_digest,
             legacy_records: None,
         }
     }
@@ -166,12 +186,37 @@ pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
                 records_bytes: 0,
                 wall_seconds: v1.wall_seconds,
                 job_id: String::new(),
+                records_digest: String::new(),
                 legacy_records: Some(records),
             }
         }
-        CHECKPOINT_FORMAT => postcard::from_bytes(body)?,
+        3 => {
+            let v3: JobCheckpointV3 = postcard::from_bytes(body)?;
+            JobCheckpoint {
+                format: v3.format,
+                snapshot: v3.snapshot,
+                engine: v3.engine,
+                records: v3.records,
+                records_bytes: v3.records_bytes,
+                wall_seconds: v3.wall_seconds,
+                progress: v3.progress,
+                job_id: v3.job_id,
+                records_digest: String::new(),
+                legacy_records: None,
+            }
+        }
+        CHECKPOINT_FORMAT => {
+            let cp: JobCheckpoint = postcard::from_bytes(body)?;
+            anyhow::ensure!(
+                cp.records_digest.len() == 64 && cp.job_id.len() == 16,
+                "{}: a format-{CHECKPOINT_FORMAT} checkpoint without its job id or record digest \
+                 (damaged)",
+                path.display()
+            );
+            cp
+        }
         other => anyhow::bail!(
-            "{}: checkpoint format {other} (this granflow reads formats 1 and {CHECKPOINT_FORMAT})",
+            "{}: checkpoint format {other} (this granflow reads formats 1, 3 and {CHECKPOINT_FORMAT})",
             path.display()
         ),
     };

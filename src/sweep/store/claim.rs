@@ -6,7 +6,8 @@
 //! that locking works on the results file system at all ([`check_locking`]).
 
 use super::{
-    CHECKPOINT_FILE, FAILED_FILE, JobState, LOCK_FILE, RECORDS_FILE, log, set_aside, state_unlocked,
+    CHECKPOINT_FILE, FAILED_FILE, JobState, LOCK_FILE, PARAMS_FILE, RECORDS_FILE, log, set_aside,
+    state_unlocked,
 };
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -89,7 +90,7 @@ fn lock_now(file: &File) -> std::io::Result<bool> {
 /// Open and lock the job's lock file, retrying briefly while a state probe holds it, and
 /// again when the file was replaced between opening and locking. None: another runner holds
 /// it.
-fn lock_job(dir: &Path) -> std::io::Result<Option<(File, (u64, u64))>> {
+pub(super) fn lock_job(dir: &Path) -> std::io::Result<Option<(File, (u64, u64))>> {
     let path = dir.join(LOCK_FILE);
     for _ in 0..3 {
         let lock = OpenOptions::new()
@@ -137,7 +138,9 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
     let mut state = state_unlocked(dir, true);
     loop {
         match &state {
-            JobState::Damaged { reason, .. } if !retry_failed => {
+            // a damaged parameters file is repaired from the plan before the claim
+            // ([`super::repair_params`]); here it is only refused
+            JobState::Damaged { reason, file } if !retry_failed || *file == PARAMS_FILE => {
                 return Ok(Err(NotClaimed::Damaged(reason.clone())));
             }
             JobState::Damaged { file, reason } => {

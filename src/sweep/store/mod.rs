@@ -29,7 +29,7 @@ mod result;
 pub use checkpoint::{JobCheckpoint, checkpoint_progress, read_checkpoint, write_checkpoint};
 pub use claim::{Claim, NotClaimed, allow_claims_without_locks, check_locking, holder, try_claim};
 pub use records::{RecordLog, load_records, records_so_far};
-pub use result::{JobResult, read_result, write_result};
+pub use result::{JobResult, RESULT_FORMAT, done_line, read_result, write_result};
 use std::fs::OpenOptions;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -98,7 +98,9 @@ pub fn init_job_dir(dir: &Path, job: &PlannedJob) -> std::io::Result<()> {
     Ok(())
 }
 
-/// A job's resolved parameters from its `params.json`.
+/// A job's resolved parameters from its `params.json`, checked: the file names the job of its
+/// directory, its canonical form hashes to that id, and its parameters give that canonical
+/// form (an emptied, edited or foreign file is refused, saying which).
 pub fn read_params(dir: &Path) -> anyhow::Result<JobParams> {
     let path = dir.join(PARAMS_FILE);
     let text =
@@ -106,7 +108,35 @@ pub fn read_params(dir: &Path) -> anyhow::Result<JobParams> {
     let file: ParamsFile =
         serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     check_owner(dir, &file.id.0, &path)?;
+    anyhow::ensure!(
+        super::job::id_of_canonical(&file.canonical) == file.id,
+        "{}: its canonical form does not hash to the id {} (edited?)",
+        path.display(),
+        file.id
+    );
+    anyhow::ensure!(
+        file.params.canonical() == file.canonical,
+        "{}: its parameters do not give its canonical form (edited?)",
+        path.display()
+    );
     Ok(file.params)
+}
+
+/// Set aside a damaged `params.json` of `job` and write it anew from the plan, under the job's
+/// lock (`run --retry-failed`); false when another runner holds the job.
+pub fn repair_params(dir: &Path, job: &PlannedJob, reason: &str) -> anyhow::Result<bool> {
+    let Some((_lock, _)) = claim::lock_job(dir)? else {
+        return Ok(false);
+    };
+    if dir.join(PARAMS_FILE).exists() {
+        let to = set_aside(dir, PARAMS_FILE)?;
+        log(
+            dir,
+            &format!("set aside {PARAMS_FILE} as {}: {reason}", to.display()),
+        )?;
+    }
+    init_job_dir(dir, job)?;
+    Ok(true)
 }
 
 /// The state of the job in `dir`, from its files and lock alone (a missing dir is pending).
@@ -130,9 +160,18 @@ pub fn job_state_checked(dir: &Path, verify: bool) -> JobState {
 }
 
 /// The state ignoring the lock (what a runner that holds the lock sees). A result counts as
-/// done by its presence unless `verify` asks to read and check it; a checkpoint that cannot
-/// be read makes the job damaged.
+/// done by its presence unless `verify` asks to read and check it (and the job's parameters
+/// file with it); a checkpoint that cannot be read makes the job damaged.
 fn state_unlocked(dir: &Path, verify: bool) -> JobState {
+    if verify
+        && dir.join(PARAMS_FILE).exists()
+        && let Err(e) = read_params(dir)
+    {
+        return JobState::Damaged {
+            file: PARAMS_FILE,
+            reason: format!("{e:#}"),
+        };
+    }
     if dir.join(RESULT_FILE).exists() {
         if verify && let Err(e) = read_result(dir) {
             return JobState::Damaged {
@@ -263,10 +302,17 @@ pub fn complete_done_log(dir: &Path) -> std::io::Result<()> {
     let text = std::fs::read_to_string(dir.join(LOG_FILE)).unwrap_or_default();
     match log_events(&text).last() {
         Some(last) if last.starts_with("done") => Ok(()),
-        _ => log(
-            dir,
-            "done (logged late: the runner stopped between writing the result and this line)",
-        ),
+        _ => match read_result(dir) {
+            Ok(result) => log(
+                dir,
+                &format!(
+                    "{} (logged late: the runner stopped between writing the result and this line)",
+                    done_line(&result.checksum)
+                ),
+            ),
+            // a damaged result is reported by the checks that read it, not sealed by the log
+            Err(_) => Ok(()),
+        },
     }
 }
 

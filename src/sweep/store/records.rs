@@ -1,18 +1,62 @@
 //! `records.bin`: a job's analysis records, one frame per snapshot, appended as the job runs
-//! and never rewritten. Frame: payload length (u32 LE), CRC-32 of the payload (u32 LE),
-//! payload (postcard of the [`Record`]). A checkpoint names the prefix of the log it covers
-//! (records and bytes); frames after it (written after the last checkpoint by a job that was
-//! then killed) are cut off when the job resumes, so a resumed job's log is the uninterrupted
-//! job's, byte for byte.
+//! and never rewritten.
+//!
+//! Layout: a header naming the job (the 16 bytes `GRANFLOW-RECLOG` zero-padded, then the
+//! job id, 16 ASCII hex digits), then frames: payload length (u32 LE), CRC-32 of the payload
+//! (u32 LE), payload (postcard of the [`Record`]). A checkpoint names the prefix of the log it
+//! covers (records, bytes after the header, and the SHA-256 of header and covered frames);
+//! frames after it (written after the last checkpoint by a job that was then killed) are cut
+//! off when the job resumes, so a resumed job's log is the uninterrupted job's, byte for byte.
+//! A log copied from another job is refused twice over: its header names the other job, and
+//! its bytes do not match the digest this job's checkpoint holds.
+//!
+//! Older layouts still read: logs of checkpoint format 3 have no header and their checkpoint
+//! no digest (their frames are checked by their CRCs alone); a job resumed from such a
+//! checkpoint rewrites its log with the header first (atomically), and its next checkpoint
+//! carries the digest.
 
-use super::{JobCheckpoint, RECORDS_FILE};
+use super::{JobCheckpoint, RECORDS_FILE, write_atomic};
 use crate::analysis::Record;
 use crate::sweep::fs_error::PathError;
+use sha2::{Digest, Sha256};
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 const FRAME_HEADER: usize = 8;
+
+/// The log's magic bytes (16, zero-padded).
+const MAGIC: &[u8; 16] = b"GRANFLOW-RECLOG\0";
+/// Bytes of the header: magic and the 16-digit job id.
+pub const HEADER_LEN: usize = 32;
+
+/// The header of job `job_id`'s log.
+fn header(job_id: &str) -> anyhow::Result<[u8; HEADER_LEN]> {
+    anyhow::ensure!(
+        job_id.len() == 16 && job_id.bytes().all(|b| b.is_ascii_hexdigit()),
+        "job id `{job_id}` is not 16 hex digits"
+    );
+    let mut out = [0u8; HEADER_LEN];
+    out[..16].copy_from_slice(MAGIC);
+    out[16..].copy_from_slice(job_id.as_bytes());
+    Ok(out)
+}
+
+/// The job a log's first bytes name, when they are a header (None: an older log without one).
+fn header_job(bytes: &[u8]) -> Option<String> {
+    (bytes.len() >= HEADER_LEN && &bytes[..16] == MAGIC)
+        .then(|| String::from_utf8_lossy(&bytes[16..HEADER_LEN]).into_owned())
+}
+
+/// SHA-256 of the header and covered frames, as a checkpoint holds it (hex).
+fn digest_hex(hasher: &Sha256) -> String {
+    hasher
+        .clone()
+        .finalize()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
 
 fn frame(record: &Record) -> anyhow::Result<Vec<u8>> {
     let payload = postcard::to_stdvec(record)?;
@@ -23,25 +67,72 @@ fn frame(record: &Record) -> anyhow::Result<Vec<u8>> {
     Ok(out)
 }
 
-/// The records a checkpoint covers: the first `cp.records` frames of the log, which must fill
-/// exactly `cp.records_bytes` bytes, each with a good checksum (format-1 checkpoints carry their
-/// records themselves).
+/// The records a checkpoint covers: the first `cp.records` frames after the log's header,
+/// which must fill exactly `cp.records_bytes` bytes, each with a good checksum; the header must
+/// name the job `cp` belongs to and, where the checkpoint holds one, header and frames must
+/// match its digest (format-1 checkpoints carry their records themselves).
 pub fn load_records(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<Vec<Record>> {
+    Ok(read_covered(dir, cp)?.0)
+}
+
+/// The covered records and the bytes of the log they were read from (header included when the
+/// log has one).
+fn read_covered(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<(Vec<Record>, Vec<u8>)> {
     if let Some(records) = &cp.legacy_records {
-        return Ok(records.clone());
+        return Ok((records.clone(), Vec::new()));
     }
     let path = dir.join(RECORDS_FILE);
-    let mut bytes = vec![0u8; cp.records_bytes as usize];
     let mut file = File::open(&path)
         .map_err(|e| anyhow::anyhow!("{}: cannot open the record log: {e}", path.display()))?;
-    file.read_exact(&mut bytes).map_err(|e| {
-        anyhow::anyhow!(
-            "{}: the record log is shorter than the {} bytes its checkpoint covers: {e}",
-            path.display(),
-            cp.records_bytes
-        )
-    })?;
-    let (records, end) = parse_frames(&bytes);
+    let mut head = vec![0u8; HEADER_LEN];
+    let got =
+        read_up_to(&mut file, &mut head).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    head.truncate(got);
+    let owner = header_job(&head);
+    let header_len = match (&owner, cp.records_digest.is_empty()) {
+        (Some(owner), _) => {
+            anyhow::ensure!(
+                cp.job_id.is_empty() || *owner == cp.job_id,
+                "{}: the record log belongs to job {owner}, not to {} (copied from another job?)",
+                path.display(),
+                cp.job_id
+            );
+            HEADER_LEN
+        }
+        (None, true) => 0,
+        (None, false) => anyhow::bail!(
+            "{}: the record log has no header naming its job, and its checkpoint expects one \
+             (replaced or damaged)",
+            path.display()
+        ),
+    };
+    let mut bytes = head[..header_len].to_vec();
+    let mut rest = head[header_len..].to_vec();
+    let wanted = cp.records_bytes as usize;
+    if rest.len() < wanted {
+        let mut more = vec![0u8; wanted - rest.len()];
+        file.read_exact(&mut more).map_err(|e| {
+            anyhow::anyhow!(
+                "{}: the record log is shorter than the {} bytes its checkpoint covers: {e}",
+                path.display(),
+                cp.records_bytes
+            )
+        })?;
+        rest.extend_from_slice(&more);
+    }
+    rest.truncate(wanted);
+    bytes.extend_from_slice(&rest);
+    if !cp.records_digest.is_empty() {
+        let mut hasher = Sha256::new();
+        hasher.update(&bytes);
+        anyhow::ensure!(
+            digest_hex(&hasher) == cp.records_digest,
+            "{}: the record log does not match its checkpoint's digest (replaced or changed \
+             after it was written)",
+            path.display()
+        );
+    }
+    let (records, end) = parse_frames(&bytes[header_len..]);
     if let Some(why) = end {
         anyhow::bail!("{}: {why}", path.display());
     }
@@ -52,7 +143,19 @@ pub fn load_records(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<Vec<Record
         records.len(),
         cp.records
     );
-    Ok(records)
+    Ok((records, bytes))
+}
+
+/// Read into `buf` until it is full or the file ends; the bytes read.
+fn read_up_to(file: &mut File, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut got = 0;
+    while got < buf.len() {
+        match file.read(&mut buf[got..])? {
+            0 => break,
+            n => got += n,
+        }
+    }
+    Ok(got)
 }
 
 /// The frames of `bytes` in order, up to the first that is incomplete or damaged (and why it
@@ -98,7 +201,14 @@ fn parse_frames(bytes: &[u8]) -> (Vec<Record>, Option<String>) {
 pub fn records_so_far(dir: &Path) -> anyhow::Result<Vec<Record>> {
     let path = dir.join(RECORDS_FILE);
     match std::fs::read(&path) {
-        Ok(bytes) => Ok(parse_frames(&bytes).0),
+        Ok(bytes) => {
+            let skip = if header_job(&bytes).is_some() {
+                HEADER_LEN
+            } else {
+                0
+            };
+            Ok(parse_frames(&bytes[skip..]).0)
+        }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(super::read_checkpoint(dir)?
             .and_then(|cp| cp.legacy_records)
             .unwrap_or_default()),
@@ -111,39 +221,83 @@ pub struct RecordLog {
     path: PathBuf,
     file: BufWriter<File>,
     records: u64,
+    /// bytes of frames after the header
     bytes: u64,
+    /// SHA-256 of the header and every frame appended so far
+    hasher: Sha256,
 }
 
 impl RecordLog {
-    /// Open the log to continue after `cp` (cut back to what it covers; a format-1
-    /// checkpoint's records are written out first), or start an empty one.
-    pub fn open(dir: &Path, cp: Option<&JobCheckpoint>) -> anyhow::Result<Self> {
+    /// Start job `job_id`'s log afresh: the header alone (replacing a log a run killed before
+    /// its first checkpoint left).
+    pub fn start(dir: &Path, job_id: &str) -> anyhow::Result<Self> {
+        Ok(Self::open(dir, job_id, None)?.0)
+    }
+
+    /// Open job `job_id`'s log to continue after `cp`, cut back to what it covers and checked
+    /// as [`load_records`] checks it (a log of an older layout, and a format-1 checkpoint's
+    /// records, are first written out anew with the header); with the covered records.
+    pub fn resume(
+        dir: &Path,
+        job_id: &str,
+        cp: &JobCheckpoint,
+    ) -> anyhow::Result<(Self, Vec<Record>)> {
+        Self::open(dir, job_id, Some(cp))
+    }
+
+    fn open(
+        dir: &Path,
+        job_id: &str,
+        cp: Option<&JobCheckpoint>,
+    ) -> anyhow::Result<(Self, Vec<Record>)> {
         let path = dir.join(RECORDS_FILE);
+        let head = header(job_id)?;
+        let (covered, bytes) = match cp {
+            Some(cp) => read_covered(dir, cp)?,
+            None => (Vec::new(), Vec::new()),
+        };
+        let legacy = cp.is_some_and(|c| c.legacy_records.is_some());
+        let has_header = header_job(&bytes).is_some();
+        if cp.is_none() || legacy || !has_header {
+            // a fresh log, or the covered frames of an older one behind a header: written
+            // whole and renamed into place, so that a kill leaves either log, never half of one
+            let mut fresh = head.to_vec();
+            if !legacy {
+                fresh.extend_from_slice(&bytes);
+            }
+            write_atomic(&path, &fresh).map_err(|e| PathError::new(&path, e))?;
+        }
         let file = OpenOptions::new()
-            .create(true)
             .write(true)
-            .truncate(false)
             .open(&path)
             .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        let (records, bytes) = match cp {
-            Some(cp) if cp.legacy_records.is_none() => (cp.records, cp.records_bytes),
-            _ => (0, 0),
+        let mut hasher = Sha256::new();
+        hasher.update(head);
+        let frames = if legacy || bytes.is_empty() {
+            &[][..]
+        } else if has_header {
+            &bytes[HEADER_LEN..]
+        } else {
+            &bytes[..]
         };
-        file.set_len(bytes).map_err(|e| PathError::new(&path, e))?;
+        hasher.update(frames);
+        let end = (HEADER_LEN + frames.len()) as u64;
+        file.set_len(end).map_err(|e| PathError::new(&path, e))?;
         let mut file = BufWriter::new(file);
-        file.seek(SeekFrom::Start(bytes))?;
+        file.seek(SeekFrom::Start(end))?;
         let mut log = RecordLog {
             path,
             file,
-            records,
-            bytes,
+            records: if legacy { 0 } else { covered.len() as u64 },
+            bytes: frames.len() as u64,
+            hasher,
         };
-        if let Some(legacy) = cp.and_then(|c| c.legacy_records.as_ref()) {
-            for r in legacy {
+        if legacy {
+            for r in &covered {
                 log.append(r)?;
             }
         }
-        Ok(log)
+        Ok((log, covered))
     }
 
     /// Append one record (buffered; [`RecordLog::sync`] makes it durable).
@@ -152,6 +306,7 @@ impl RecordLog {
         self.file
             .write_all(&bytes)
             .map_err(|e| PathError::new(&self.path, e))?;
+        self.hasher.update(&bytes);
         self.records += 1;
         self.bytes += bytes.len() as u64;
         Ok(())
@@ -168,8 +323,8 @@ impl RecordLog {
         Ok(())
     }
 
-    /// Records and bytes written so far.
-    pub fn position(&self) -> (u64, u64) {
-        (self.records, self.bytes)
+    /// Records and frame bytes written so far, and the digest of the log up to here.
+    pub fn position(&self) -> (u64, u64, String) {
+        (self.records, self.bytes, digest_hex(&self.hasher))
     }
 }

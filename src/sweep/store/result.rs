@@ -1,4 +1,11 @@
-//! `result.ron`: a finished job's result (its presence means done).
+//! `result.ron`: a finished job's result (its presence means done), sealed by a checksum.
+//!
+//! The checksum is SHA-256 (first 16 hex digits) of the file's text with the checksum's value
+//! left empty; the job's log repeats it in its `done` line. A result of layout 2 (every result
+//! written since the `format` field exists) without a checksum, with an empty one, or with one
+//! that does not match its text is damaged; so is a result whose job log names another
+//! checksum. Results of older layouts (no `format` field) carry no checksum where they were
+//! written before checksums existed: they read as they are, as long as their log names none.
 
 use super::{RESULT_FILE, write_atomic};
 use crate::analysis::Analysis;
@@ -6,9 +13,16 @@ use crate::engine::Counters;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// Layout of `result.ron` written now (1: every older layout, which had no `format` field;
+/// 2: the checksum is required).
+pub const RESULT_FORMAT: u32 = 2;
+
 /// A finished job's result (`result.ron`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct JobResult {
+    /// layout of the file ([`RESULT_FORMAT`]; 1 for files without the field)
+    #[serde(default = "older_layout")]
+    pub format: u32,
     /// the job id
     pub id: String,
     /// the engine that ran it (results written before the registry are EDMD's)
@@ -70,6 +84,10 @@ impl JobResult {
     }
 }
 
+fn older_layout() -> u32 {
+    1
+}
+
 fn edmd() -> String {
     "edmd".into()
 }
@@ -96,7 +114,8 @@ fn blank_checksum(text: &str) -> Option<(String, &str)> {
 }
 
 /// Read a finished job's result and check that it is this job's and undamaged: it must parse,
-/// carry the id of its directory, and (when it has one) match its checksum.
+/// carry the id of its directory, match its checksum (required from layout 2 on, and whenever
+/// the job's log names one), and carry the checksum its log's `done` line names.
 pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
     let path = dir.join(RESULT_FILE);
     let text =
@@ -104,21 +123,64 @@ pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
     let result: JobResult =
         ron::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     super::check_owner(dir, &result.id, &path)?;
-    if !result.checksum.is_empty() {
-        let intact = blank_checksum(&text)
-            .is_some_and(|(blank, sum)| sum == result.checksum && checksum_of(&blank) == sum);
+    let logged = logged_checksum(dir);
+    if result.checksum.is_empty() {
         anyhow::ensure!(
-            intact,
-            "{}: checksum mismatch (the file was changed after it was written)",
+            result.format < 2 && logged.is_none(),
+            "{}: no checksum (removed or blanked after the file was written)",
             path.display()
+        );
+        return Ok(result);
+    }
+    let intact = blank_checksum(&text)
+        .is_some_and(|(blank, sum)| sum == result.checksum && checksum_of(&blank) == sum);
+    anyhow::ensure!(
+        intact,
+        "{}: checksum mismatch (the file was changed after it was written)",
+        path.display()
+    );
+    if let Some(logged) = logged {
+        anyhow::ensure!(
+            logged == result.checksum,
+            "{}: checksum {} where the job's log says {logged} (replaced after it was written)",
+            path.display(),
+            result.checksum
         );
     }
     Ok(result)
 }
 
-/// Write a job's result atomically (this marks it done), with its checksum.
-pub fn write_result(dir: &Path, result: &JobResult) -> anyhow::Result<()> {
+/// The checksum the job's log names for its current result: that of the last `done` line
+/// (`done checksum=<hex>`), unless a later start, resume or retirement of the result makes a
+/// new result due.
+fn logged_checksum(dir: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(dir.join(super::LOG_FILE)).ok()?;
+    let last = super::log_events(&text).into_iter().rev().find(|e| {
+        ["done", "start", "resume", "outdated"]
+            .iter()
+            .any(|w| e.starts_with(w))
+    })?;
+    last.strip_prefix("done")?
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix("checksum="))
+        .filter(|s| !s.is_empty())
+        .map(str::to_string)
+}
+
+/// The log line that marks a job done, with the checksum of its result (results of older
+/// layouts may have none).
+pub fn done_line(checksum: &str) -> String {
+    if checksum.is_empty() {
+        "done".into()
+    } else {
+        format!("done checksum={checksum}")
+    }
+}
+
+/// Write a job's result atomically (this marks it done), with its checksum; the checksum.
+pub fn write_result(dir: &Path, result: &JobResult) -> anyhow::Result<String> {
     let blank = JobResult {
+        format: RESULT_FORMAT,
         checksum: String::new(),
         ..result.clone()
     };
@@ -129,11 +191,10 @@ pub fn write_result(dir: &Path, result: &JobResult) -> anyhow::Result<()> {
         "result of job {}: no single top-level checksum field in its text",
         result.id
     );
-    let sealed = text.replacen(
-        &empty,
-        &format!("{CHECKSUM_FIELD}{}\"", checksum_of(&text)),
-        1,
-    );
-    write_atomic(&dir.join(RESULT_FILE), sealed.as_bytes())?;
-    Ok(())
+    let checksum = checksum_of(&text);
+    let sealed = text.replacen(&empty, &format!("{CHECKSUM_FIELD}{checksum}\""), 1);
+    let path = dir.join(RESULT_FILE);
+    write_atomic(&path, sealed.as_bytes())
+        .map_err(|e| crate::sweep::fs_error::PathError::new(&path, e))?;
+    Ok(checksum)
 }
