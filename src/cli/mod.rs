@@ -12,6 +12,7 @@ mod plan;
 mod plot;
 mod report;
 mod run;
+mod signals;
 mod sim;
 mod slurm;
 mod source;
@@ -76,7 +77,10 @@ pub fn main() -> ExitCode {
         Command::Sim(args) => sim::run(args),
         Command::Engines(args) => engines::run(args),
         Command::Bench(args) => bench::run(args),
-        Command::Run(args) => run::run(args),
+        Command::Run(args) => {
+            signals::announce_stops(&std::env::args().collect::<Vec<_>>());
+            run::run(args)
+        }
         Command::Plan(args) => plan::run(args),
         Command::Status(args) => status::run(args),
         Command::Gather(args) => gather::run(args),
@@ -97,6 +101,15 @@ pub fn main() -> ExitCode {
                 .downcast_ref::<crate::sweep::fs_error::ResourceStop>()
                 .is_some()
             {
+                ExitCode::from(crate::sweep::fs_error::EXIT_RESOURCE)
+            } else if crate::sweep::fs_error::is_resource_error(&err) {
+                // a full disk (or quota, read-only file system, failing device) anywhere
+                eprintln!(
+                    "  the file system refused the write ({}): free space or fix the device, \
+                     then run the same command again (exit code {})",
+                    crate::sweep::fs_error::resource_kind(&err),
+                    crate::sweep::fs_error::EXIT_RESOURCE
+                );
                 ExitCode::from(crate::sweep::fs_error::EXIT_RESOURCE)
             } else if err.downcast_ref::<crate::sweep::SpecError>().is_some()
                 || err.downcast_ref::<crate::sweep::BadInput>().is_some()

@@ -61,7 +61,7 @@ pub struct RunArgs {
 pub fn parse_job_range(text: &str, plan_len: usize) -> Result<(usize, usize), BadInput> {
     let bad = || {
         BadInput(format!(
-            "--job-range {text}: expected START:END with 0 <= START <= END (plan indices, END exclusive; the plan has {plan_len} jobs)"
+            "--job-range {text}: expected START:END with 0 <= START < END (plan indices, END exclusive; the plan has {plan_len} jobs)"
         ))
     };
     let (a, b) = text.split_once(':').ok_or_else(bad)?;
@@ -75,7 +75,8 @@ pub fn parse_job_range(text: &str, plan_len: usize) -> Result<(usize, usize), Ba
     } else {
         b.trim().parse().map_err(|_| bad())?
     };
-    if a > b {
+    if a >= b {
+        // END is exclusive: START:START selects nothing, which is never what was meant
         return Err(bad());
     }
     if a >= plan_len {

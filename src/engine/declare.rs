@@ -11,11 +11,49 @@ use std::collections::BTreeMap;
 use std::fmt;
 
 /// A parameter's value: a number (whole numbers too) or, for choices, a name.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum ParamValue {
     Number(f64),
     Text(String),
+}
+
+impl<'de> Deserialize<'de> for ParamValue {
+    /// A number or a name; anything else (a list where one value belongs, a map) is refused
+    /// with what to write instead.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = ParamValue;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("one value: a number or a name in quotes")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<ParamValue, E> {
+                Ok(ParamValue::Number(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<ParamValue, E> {
+                Ok(ParamValue::Number(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<ParamValue, E> {
+                Ok(ParamValue::Number(v as f64))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<ParamValue, E> {
+                Ok(ParamValue::Text(v.to_string()))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, _: A) -> Result<ParamValue, A::Error> {
+                Err(serde::de::Error::custom(
+                    "a list where one value belongs: give a single value here; to sweep a \
+                     parameter, list its values under `axes`",
+                ))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, _: A) -> Result<ParamValue, A::Error> {
+                Err(serde::de::Error::custom(
+                    "a structure where one value belongs: give a number or a name in quotes",
+                ))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
 }
 
 impl ParamValue {

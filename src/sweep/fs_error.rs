@@ -54,6 +54,32 @@ fn is_resource_io(e: &std::io::Error) -> bool {
         .is_some_and(|p| is_resource_io(&p.error))
 }
 
+/// What a resource error is, in words ("no space left on the device", ...), from the first
+/// OS error number in the chain.
+pub fn resource_kind(err: &anyhow::Error) -> &'static str {
+    let errno = err.chain().find_map(|e| {
+        e.downcast_ref::<PathError>()
+            .and_then(|p| p.error.raw_os_error())
+            .or_else(|| {
+                e.downcast_ref::<std::io::Error>().and_then(|io| {
+                    io.raw_os_error().or_else(|| {
+                        io.get_ref()
+                            .and_then(|i| i.downcast_ref::<PathError>())
+                            .and_then(|p| p.error.raw_os_error())
+                    })
+                })
+            })
+    });
+    match errno {
+        Some(28) => "no space left on the device",
+        Some(122) => "disk quota exceeded",
+        Some(27) => "file size limit exceeded",
+        Some(5) => "input/output error of the device",
+        Some(30) => "read-only file system",
+        _ => "resource error",
+    }
+}
+
 /// Whether an error (anywhere in its chain) is a resource error: the disk, not the job.
 pub fn is_resource_error(err: &anyhow::Error) -> bool {
     err.chain().any(|e| {

@@ -155,6 +155,15 @@ impl RunSettings {
             ));
         }
         let interval = self.snapshot_interval;
+        if clock == Clock::Steps && interval.fract() != 0.0 {
+            return Err((
+                "snapshot_interval",
+                format!(
+                    "{interval} is not a whole number of steps: allowed a whole number from 1 to \
+                     steps ({length})"
+                ),
+            ));
+        }
         if !(interval.is_finite()
             && interval > 0.0
             && interval <= length

@@ -175,6 +175,59 @@ fn default_seeds() -> Vec<u64> {
     vec![1]
 }
 
+/// The seeds as written: whole numbers from 0 to i64::MAX (tables hold them as signed 64-bit
+/// integers); anything else is refused saying so.
+fn seeds<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<u64>, D::Error> {
+    struct Seed(u64);
+    impl<'de> Deserialize<'de> for Seed {
+        fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            struct Visit;
+            impl serde::de::Visitor<'_> for Visit {
+                type Value = Seed;
+                fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                    write!(f, "a seed: a whole number from 0 to {}", i64::MAX)
+                }
+                fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Seed, E> {
+                    u64::try_from(v).map(Seed).map_err(|_| out_of_range(v))
+                }
+                fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Seed, E> {
+                    if i64::try_from(v).is_ok() {
+                        Ok(Seed(v))
+                    } else {
+                        Err(out_of_range(v))
+                    }
+                }
+                fn visit_i128<E: serde::de::Error>(self, v: i128) -> Result<Seed, E> {
+                    i64::try_from(v)
+                        .map_err(|_| out_of_range(v))
+                        .and_then(|v| self.visit_i64(v))
+                }
+                fn visit_u128<E: serde::de::Error>(self, v: u128) -> Result<Seed, E> {
+                    Err(out_of_range(v))
+                }
+                fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Seed, E> {
+                    Err(E::custom(format!(
+                        "seed {v} is not a whole number: allowed whole numbers from 0 to {}",
+                        i64::MAX
+                    )))
+                }
+            }
+            fn out_of_range<E: serde::de::Error>(v: impl fmt::Display) -> E {
+                E::custom(format!(
+                    "seed {v} is out of range: allowed whole numbers from 0 to {} (tables hold \
+                     seeds as signed 64-bit integers)",
+                    i64::MAX
+                ))
+            }
+            d.deserialize_any(Visit)
+        }
+    }
+    Ok(Vec::<Seed>::deserialize(d)?
+        .into_iter()
+        .map(|s| s.0)
+        .collect())
+}
+
 /// A sweep file as written (see README "## Sweeps").
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -200,7 +253,7 @@ pub struct SweepSpec {
     #[serde(default)]
     pub points: Vec<ParamValues>,
     /// seeds (replicas): every grid point and extra point runs once per seed
-    #[serde(default = "default_seeds")]
+    #[serde(default = "default_seeds", deserialize_with = "seeds")]
     pub seeds: Vec<u64>,
     /// run length and snapshot cadence
     pub run: RunSettings,
@@ -546,6 +599,68 @@ fn unknown_key_message(key: &str, engine: &EngineDef) -> String {
     }
 }
 
+/// Longest sweep name: a directory name, with room for the paths under it.
+const NAME_MAX: usize = 100;
+
+/// A sweep name is one directory name: 1 to [`NAME_MAX`] letters, digits and `- _ . + = ,`,
+/// not starting with a dot.
+fn check_name(name: &str) -> Result<(), String> {
+    let shown: String = name
+        .chars()
+        .take(40)
+        .collect::<String>()
+        .escape_debug()
+        .to_string();
+    let shown = if name.chars().count() > 40 {
+        format!("{shown}...")
+    } else {
+        shown
+    };
+    if name.is_empty() || name.chars().count() > NAME_MAX {
+        return Err(format!(
+            "name \"{shown}\" has {} characters: allowed 1 to {NAME_MAX}",
+            name.chars().count()
+        ));
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || "-_.+=,".contains(*c)))
+    {
+        return Err(format!(
+            "name \"{shown}\" holds {:?}, which does not belong in a directory name: allowed \
+             letters, digits and - _ . + = ,",
+            c
+        ));
+    }
+    if name.starts_with('.') {
+        return Err(format!(
+            "name \"{shown}\" starts with a dot (a hidden directory): start with a letter or digit"
+        ));
+    }
+    Ok(())
+}
+
+/// An error about `key` that a `--set` override gave (the last one that set it): placed on
+/// the option, not on the file's line.
+fn at_override(spec: &SweepSpec, key: &str) -> Option<SpecError> {
+    spec.overrides
+        .iter()
+        .rev()
+        .find(|arg| arg.split_once('=').is_some_and(|(k, _)| k.trim() == key))
+        .map(|arg| SpecError {
+            origin: Origin::Override(arg.clone()),
+            key: Some(key.to_string()),
+            message: String::new(),
+        })
+}
+
+impl SpecError {
+    fn with_message(mut self, message: String) -> Self {
+        self.message = message;
+        self
+    }
+}
+
 /// Check the parts of a spec that do not need the expansion: engine, run settings, analysis
 /// settings, each key and value against the engine's declaration, axes non-empty without
 /// duplicates, links, seeds.
@@ -563,18 +678,15 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
         ));
     };
     if let Some(name) = &spec.name
-        && (name.is_empty() || name.contains(['/', '\\']) || name.starts_with('.'))
+        && let Err(why) = check_name(name)
     {
-        return Err(src.error_at(
-            None,
-            "name",
-            0,
-            format!("name \"{name}\" is not a directory name: allowed letters, digits, - _ + = ,"),
-        ));
+        return Err(src.error_at(None, "name", 0, why));
     }
-    spec.run
-        .validate(engine)
-        .map_err(|(key, message)| src.error_at(Some("run"), key, 0, message))?;
+    spec.run.validate(engine).map_err(|(key, message)| {
+        at_override(spec, key)
+            .unwrap_or_else(|| src.error_at(Some("run"), key, 0, message.clone()))
+            .with_message(message)
+    })?;
     if let Err(message) = engine.analysis.analyser(&spec.analysis) {
         return Err(src.error_at(None, "analysis", 0, message));
     }

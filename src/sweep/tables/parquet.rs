@@ -260,8 +260,10 @@ pub fn write(
         RecordBatchT::try_new(n, schema.clone(), slices)
     });
     let groups = RowGroupIterator::try_new(batches, &schema, options, encodings)?;
-    let file = std::fs::File::create(path)?;
-    let mut writer = FileWriter::try_new(&file, (*schema).clone(), options)?;
+    // encoded in memory, then written: the file system's errors (a full disk) then reach the
+    // caller as themselves, with the path, not as a Parquet encoder's "transport error"
+    let mut bytes = Vec::new();
+    let mut writer = FileWriter::try_new(&mut bytes, (*schema).clone(), options)?;
     for (start, group) in (0..rows).step_by(ROW_GROUP_ROWS).zip(groups) {
         writer.write(ROW_GROUP_ROWS.min(rows - start) as u64, group?)?;
     }
@@ -275,7 +277,12 @@ pub fn write(
         value: Some(value.clone()),
     }));
     writer.end(Some(key_values))?;
-    file.sync_all()?;
+    drop(writer);
+    let written = std::fs::File::create(path).and_then(|mut file| {
+        std::io::Write::write_all(&mut file, &bytes)?;
+        file.sync_all()
+    });
+    written.map_err(|e| crate::sweep::fs_error::PathError::new(path, e))?;
     Ok(())
 }
 
