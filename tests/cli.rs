@@ -485,3 +485,44 @@ fn completions_print_a_script_for_the_shell() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("bash"));
 }
+
+/// An overnight log (stdout and stderr in a file, no terminal): a line per running job at the
+/// progress interval naming its parameters, the sweep's done/total with an ETA, and "done"
+/// lines that name the parameters, not only the id.
+#[test]
+fn overnight_logs_name_parameters_and_the_sweeps_progress() {
+    let dir = scratch("overnight");
+    let file = dir.join("o.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0]), run: (collisions_per_particle: 2000, snapshot_interval: 20))",
+    )
+    .unwrap();
+    let out = Command::new(BIN)
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--results",
+            dir.join("r").to_str().unwrap(),
+            "--threads",
+            "1",
+        ])
+        .env("GRANFLOW_PROGRESS_SECONDS", "0")
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{log}");
+    let running = log.lines().find(|l| l.starts_with("running")).expect(&log);
+    assert!(
+        running.contains("L/W=") && running.contains("ETA"),
+        "{running}"
+    );
+    for l in log.lines().filter(|l| l.starts_with("done")) {
+        assert!(l.contains("L/W="), "a done line without parameters: {l}");
+    }
+    assert!(
+        log.lines()
+            .any(|l| l.starts_with("sweep   o: 1/2 jobs done") && l.contains("ETA")),
+        "{log}"
+    );
+}

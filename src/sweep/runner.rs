@@ -182,6 +182,27 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         ));
     };
     set_overall(summary.already_done);
+    // without a terminal: the sweep's progress as a plain line, after each finished job and at
+    // most once per progress interval while jobs run
+    let last_sweep_line = Mutex::new(std::time::Instant::now());
+    let sweep_line = |done: usize| {
+        let fraction = overall.position() as f64 / overall.length().unwrap_or(1).max(1) as f64;
+        let eta = if fraction > 0.0 && fraction < 1.0 {
+            let eta = overall.eta().as_secs();
+            format!(
+                ", ETA {}",
+                humantime::format_duration(std::time::Duration::from_secs(eta))
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "sweep   {}: {done}/{} jobs done, {:.0} % of the estimated work{eta}",
+            sweep.name,
+            selected.len(),
+            100.0 * fraction
+        )
+    };
     say(format!(
         "sweep {}: {} jobs selected, {} done, {} to run{} on {} threads (results in {})",
         sweep.name,
@@ -253,9 +274,10 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                             let _ = store::log(dir, &store::done_line(&checksum));
                             counts.lock().expect("counts").0 += 1;
                             format!(
-                                "done    {} [{}]: {}, {:.1} s, {:.3e} events/s",
+                                "done    {} [{}] {}: {}, {:.1} s, {:.3e} events/s",
                                 job.id,
                                 job.index,
+                                point_of(job),
                                 crate::analysis::labels::label_key(
                                     result.analysis.label().0,
                                     result.analysis.label().1
@@ -271,21 +293,31 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                             let _ = store::mark_failed(dir, &format!("writing the result: {e:#}"));
                             counts.lock().expect("counts").1 += 1;
                             format!(
-                                "FAILED  {} [{}]: writing the result: {e:#}",
-                                job.id, job.index
+                                "FAILED  {} [{}] {}: writing the result: {e:#}",
+                                job.id,
+                                job.index,
+                                point_of(job)
                             )
                         }
                     },
                     Outcome::Failed(err) => {
                         let _ = store::mark_failed(dir, err);
                         counts.lock().expect("counts").1 += 1;
-                        format!("FAILED  {} [{}]: {err}", job.id, job.index)
+                        format!(
+                            "FAILED  {} [{}] {}: {err}",
+                            job.id,
+                            job.index,
+                            point_of(job)
+                        )
                     }
                 };
                 drop(msg.claim);
                 let done = done_count.fetch_add(1, Ordering::Relaxed) + 1;
                 set_overall(done);
                 say(line);
+                if !interactive {
+                    say(sweep_line(done));
+                }
             }
         });
         pool.scope(|s| {
@@ -377,6 +409,11 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                                     p.target,
                                     p.events_per_second
                                 ));
+                                let mut last_sweep = last_sweep_line.lock().expect("sweep line");
+                                if last_sweep.elapsed() >= progress_every {
+                                    *last_sweep = std::time::Instant::now();
+                                    say(sweep_line(done_count.load(Ordering::Relaxed)));
+                                }
                             }
                         };
                         let outcome =
