@@ -125,20 +125,31 @@ fn the_shipped_dsmc_sweep_runs_resumes_after_kill_9_and_tabulates() {
     }
     let profiles = read("profiles");
     assert!(
-        profiles.height() >= 4 * 50,
+        profiles.height() >= 4 * 50 * 21,
         "{} profile rows",
         profiles.height()
     );
     for col in [
         "job_id",
-        "y",
-        "density",
-        "velocity",
-        "temperature",
-        "pxy",
-        "qy",
+        "quantity",
+        "bin",
+        "coordinate",
+        "value",
+        "standard_error",
     ] {
         assert!(profiles.column(col).is_ok(), "profiles.parquet lacks {col}");
+    }
+    let quantities: std::collections::BTreeSet<String> = profiles
+        .column("quantity")
+        .unwrap()
+        .str()
+        .unwrap()
+        .iter()
+        .flatten()
+        .map(str::to_string)
+        .collect();
+    for q in ["density", "velocity", "temperature", "pxy", "qy"] {
+        assert!(quantities.contains(q), "no {q} profile: {quantities:?}");
     }
 
     // the curve plot and the minimum diagram

@@ -155,6 +155,8 @@ fn pre_registry_files_still_read() {
         for (name, field) in was.iter() {
             let renamed = match (table, name.as_str()) {
                 (_, "id") => "job_id".to_string(),
+                // one profile layout for every engine: the bin centre as y / W
+                ("profiles", "y") => "coordinate".to_string(),
                 ("jobs", "collisions_per_particle" | "time") => format!("final_{name}"),
                 _ => name.to_string(),
             };
@@ -469,19 +471,21 @@ fn results_readme_documents_every_column() {
     let doc =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("results/README.md"))
             .unwrap();
-    // table rows `| name | type | meaning |`, several names of one type separated by ", "
-    let documented: Vec<(String, String)> = doc
-        .lines()
-        .filter(|l| l.starts_with("| ") && !l.starts_with("| column") && !l.starts_with("| ---"))
-        .flat_map(|l| {
-            let cells: Vec<&str> = l.split('|').collect();
-            let kind = cells.get(2).map_or("", |c| c.trim()).to_string();
-            cells[1]
-                .split(", ")
-                .map(|n| (n.trim().trim_matches('`').to_string(), kind.clone()))
-                .collect::<Vec<_>>()
-        })
-        .filter(|(n, _)| !n.is_empty())
+    // table rows `| name | type | unit | meaning |`, several names of one type separated by
+    // ", ": each with a unit (the tables' field metadata carries it)
+    let docs = granflow::sweep::tables::column_docs::parse(&doc);
+    assert!(!docs.is_empty());
+    for d in &docs {
+        assert!(
+            !d.unit.is_empty() && !d.meaning.is_empty(),
+            "results/README.md: `{}` ({}.parquet) lacks a unit or a meaning",
+            d.name,
+            d.table
+        );
+    }
+    let documented: Vec<(String, String)> = docs
+        .iter()
+        .map(|d| (d.name.clone(), d.kind.clone()))
         .collect();
     let mut all: Vec<(String, String)> = Vec::new();
     for engine in registry::ENGINES {

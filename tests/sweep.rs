@@ -578,7 +578,7 @@ energy = pq.read_table(d + "/energy.parquet").to_pydict()
 assert set(energy["job_id"]) == set(jobs["job_id"])
 assert all(0.0 <= c <= 1500.0 for c in energy["collisions_per_particle"])
 for name, cols in [("spectra", ["job_id", "plane", "k1", "k2", "power"]),
-                   ("profiles", ["job_id", "quantity", "bin", "y", "value"])]:
+                   ("profiles", ["job_id", "quantity", "bin", "coordinate", "value", "standard_error"])]:
     t = pq.read_table(d + "/" + name + ".parquet")
     assert t.column_names == cols, t.column_names
     assert set(t.column("job_id").to_pylist()) <= set(jobs["job_id"])

@@ -87,6 +87,10 @@ for state in ["none", "some", "all"]:
                 name = ".".join((f.name,) + leaf)
                 assert not pa.types.is_unsigned_integer(t), f"{where}: {name} is {t}"
                 assert "view" not in str(t), f"{where}: {name} is {t}"
+        # every field carries its unit and meaning (results/README.md) as field metadata
+        for f in schema:
+            md = f.metadata or {}
+            assert md.get(b"unit") and md.get(b"description"), f"{where}: {f.name} has no unit: {md}"
         provenance = pq.ParquetFile(path).metadata.metadata
         assert provenance[b"granflow.engine"].decode() == engine, where
         # DuckDB: the types the declaration gives, and arithmetic on every integer
@@ -132,6 +136,10 @@ for state in ["none", "some", "all"]:
             ids_done = {i for i, s in zip(data.column("job_id").to_pylist(), states_of) if s == "done"}
             expect = {"none": 0, "some": spec["some_done"], "all": spec["jobs"]}[state]
             assert len(ids_done) == expect, f"{where}: states {states_of}"
+            # the build that computed each done job, per row
+            for n in ["granflow_version", "granflow_commit"]:
+                known = data.num_rows - data.column(n).null_count
+                assert known == expect, f"{where}: {n} known for {known} jobs"
             final = [n for n, _ in columns if n.startswith("final_")]
             assert final, f"{where}: no final clock"
             for n in final:

@@ -266,31 +266,7 @@ const STRUCTURE_TABLES: &[TableDef] = &[
             },
         ],
     },
-    TableDef {
-        name: "profiles",
-        columns: &[
-            ColumnDef {
-                name: "quantity",
-                kind: ColumnKind::Str,
-                doc: "phi, u_x, omega_z, T or theta",
-            },
-            ColumnDef {
-                name: "bin",
-                kind: ColumnKind::I64,
-                doc: "bin across the channel",
-            },
-            ColumnDef {
-                name: "y",
-                kind: ColumnKind::F64,
-                doc: "bin centre, in d",
-            },
-            ColumnDef {
-                name: "value",
-                kind: ColumnKind::F64,
-                doc: "window average",
-            },
-        ],
-    },
+    PROFILES_TABLE,
     TableDef {
         name: "energy",
         columns: &[
@@ -318,47 +294,35 @@ const STRUCTURE_TABLES: &[TableDef] = &[
     },
 ];
 
-const RAREFIED_TABLES: &[TableDef] = &[TableDef {
-    name: "profiles",
-    columns: RAREFIED_PROFILE_COLUMNS,
-}];
+const RAREFIED_TABLES: &[TableDef] = &[PROFILES_TABLE];
 
-/// The columns of a DSMC job's profiles (one row per layer cell; normalisation as in the
-/// thesis: y / W, rho / rho_avg, u / u_c, T / T_w, stresses and heat flux in their reduced
-/// units; `_error`: block-average standard error).
-const RAREFIED_PROFILE_COLUMNS: &[ColumnDef] = &[
-    f64_column("y", "y / W about the centre, in (-1/2, 1/2)"),
-    f64_column("density", "rho / rho_avg"),
-    f64_column("density_error", "its standard error"),
-    f64_column("velocity", "u_x / u_c (mass-weighted)"),
-    f64_column("velocity_error", "its standard error"),
-    f64_column(
-        "velocity_hat",
-        "u_x / sqrt(a W) (athermal walls, thesis ch. 4)",
-    ),
-    f64_column("temperature", "T / T_w"),
-    f64_column("temperature_error", "its standard error"),
-    f64_column("temperature_over_centre", "T / T(0)"),
-    f64_column("pressure", "p / P_c"),
-    f64_column("pxx", "P_xx / P_c"),
-    f64_column("pyy", "P_yy / P_c"),
-    f64_column("pzz", "P_zz / P_c"),
-    f64_column("pxy", "P_xy / P_c (shear stress)"),
-    f64_column("pxy_error", "its standard error"),
-    f64_column("qx", "q_x / q_c"),
-    f64_column("qx_error", "its standard error"),
-    f64_column("qy", "q_y / q_c"),
-    f64_column("qy_error", "its standard error"),
-    f64_column("n1", "first normal-stress difference N1 (eq. 3.29)"),
-    f64_column("n2", "second normal-stress difference N2 (eq. 3.30)"),
-    f64_column("local_knudsen", "local Knudsen number Kn_y (eq. 3.25)"),
-    f64_column("species1_density", "n_1 / n_avg"),
-    f64_column("species2_density", "n_2 / n_avg (null when monodisperse)"),
-    f64_column("species1_temperature", "T_1 / T_w (eq. 5.9)"),
-    f64_column("species2_temperature", "T_2 / T_w (eq. 5.10)"),
-    f64_column("species1_velocity", "u_x,1 / u_c"),
-    f64_column("species2_velocity", "u_x,2 / u_c"),
-];
+/// Cross-channel profiles of every engine that has them, in one long layout: one row per
+/// quantity and bin (quantities and their scaling as each analysis defines them, listed in
+/// `results/README.md`).
+pub const PROFILES_TABLE: TableDef = TableDef {
+    name: "profiles",
+    columns: &[
+        ColumnDef {
+            name: "quantity",
+            kind: ColumnKind::Str,
+            doc: "the profiled quantity (names per engine in results/README.md)",
+        },
+        ColumnDef {
+            name: "bin",
+            kind: ColumnKind::I64,
+            doc: "bin across the channel, from the wall at y = 0",
+        },
+        f64_column(
+            "coordinate",
+            "bin centre as y / W, from the wall at y = 0 (0) to the wall at y = W (1)",
+        ),
+        f64_column("value", "window average"),
+        f64_column(
+            "standard_error",
+            "standard error of the window average (block averages) where the analysis estimates one; null otherwise",
+        ),
+    ],
+};
 
 const fn f64_column(name: &'static str, doc: &'static str) -> ColumnDef {
     ColumnDef {
@@ -555,18 +519,29 @@ impl Analysis {
                         ]
                     })
                     .collect(),
-                "profiles" => a
-                    .profiles
-                    .iter()
-                    .map(|r| {
-                        vec![
-                            r.quantity.as_str().into(),
-                            r.bin.into(),
-                            r.y.into(),
-                            r.value.into(),
-                        ]
-                    })
-                    .collect(),
+                "profiles" => {
+                    // bins of equal width across W: the centre of bin b of n is (b + 1/2) / n
+                    let bins = |q: &str| {
+                        a.profiles
+                            .iter()
+                            .filter(|r| r.quantity == q)
+                            .map(|r| r.bin + 1)
+                            .max()
+                            .unwrap_or(1)
+                    };
+                    a.profiles
+                        .iter()
+                        .map(|r| {
+                            vec![
+                                r.quantity.as_str().into(),
+                                r.bin.into(),
+                                ((f64::from(r.bin) + 0.5) / f64::from(bins(&r.quantity))).into(),
+                                r.value.into(),
+                                Cell::Null,
+                            ]
+                        })
+                        .collect()
+                }
                 "energy" => a
                     .energy
                     .iter()
@@ -605,7 +580,20 @@ impl Analysis {
                 "profiles" => a
                     .profiles
                     .iter()
-                    .map(|r| r.values().into_iter().map(Cell::from).collect())
+                    .enumerate()
+                    .flat_map(|(bin, r)| {
+                        // y / W about the centre -> y / W from the wall at y = 0
+                        let coordinate = r.y + 0.5;
+                        r.quantities().map(|(name, value, error)| {
+                            vec![
+                                name.into(),
+                                bin.into(),
+                                coordinate.into(),
+                                value.into(),
+                                error.into(),
+                            ]
+                        })
+                    })
                     .collect(),
                 _ => Vec::new(),
             },

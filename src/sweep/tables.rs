@@ -15,6 +15,7 @@ use parquet::Column;
 use serde_json::Value;
 use std::path::Path;
 
+pub mod column_docs;
 mod parquet;
 
 /// What [`gather`] wrote.
@@ -110,16 +111,26 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
     let metadata = file_metadata(sweep, &generation);
     let mut names = vec!["jobs".to_string()];
     let written = (|| -> anyhow::Result<()> {
+        let describe = |table: &'static str| {
+            move |column: &str| {
+                column_docs::lookup(table, engine.name, column).map(|d| parquet::FieldDoc {
+                    unit: d.unit.clone(),
+                    description: d.meaning.clone(),
+                })
+            }
+        };
         parquet::write(
             &staging.join("jobs.parquet"),
             jobs_table(engine, &jobs),
             &metadata,
+            &describe("jobs"),
         )?;
         for table in engine.analysis.tables() {
             parquet::write(
                 &staging.join(format!("{}.parquet", table.name)),
                 rows_table(table, &jobs),
                 &metadata,
+                &describe(table.name),
             )?;
             names.push(table.name.to_string());
         }
@@ -345,6 +356,15 @@ fn jobs_table(engine: &EngineDef, jobs: &[GatheredJob]) -> Vec<Column> {
     }));
     cols.push(done("events_per_second", ColumnKind::F64, &|x| {
         x.events_per_second.into()
+    }));
+    // the build that computed each job (not the one that gathers): null where a result of an
+    // older layout does not say
+    let known = |s: &str| (!s.is_empty()).then(|| s.to_string()).into();
+    cols.push(done("granflow_version", ColumnKind::Str, &|x| {
+        known(&x.provenance.granflow)
+    }));
+    cols.push(done("granflow_commit", ColumnKind::Str, &|x| {
+        known(&x.provenance.commit)
     }));
     cols
 }

@@ -260,37 +260,36 @@ pub struct RarefiedProfileRow {
 }
 
 impl RarefiedProfileRow {
-    /// The values in field order (the columns of the `profiles` table).
-    pub fn values(&self) -> [f64; 28] {
+    /// The quantities of the long `profiles` table: (name, value, standard error; NaN where
+    /// none is estimated), in field order.
+    pub fn quantities(&self) -> [(&'static str, f64, f64); 21] {
+        let none = f64::NAN;
         [
-            self.y,
-            self.density,
-            self.density_error,
-            self.velocity,
-            self.velocity_error,
-            self.velocity_hat,
-            self.temperature,
-            self.temperature_error,
-            self.temperature_over_centre,
-            self.pressure,
-            self.pxx,
-            self.pyy,
-            self.pzz,
-            self.pxy,
-            self.pxy_error,
-            self.qx,
-            self.qx_error,
-            self.qy,
-            self.qy_error,
-            self.n1,
-            self.n2,
-            self.local_knudsen,
-            self.species1_density,
-            self.species2_density,
-            self.species1_temperature,
-            self.species2_temperature,
-            self.species1_velocity,
-            self.species2_velocity,
+            ("density", self.density, self.density_error),
+            ("velocity", self.velocity, self.velocity_error),
+            ("velocity_hat", self.velocity_hat, none),
+            ("temperature", self.temperature, self.temperature_error),
+            (
+                "temperature_over_centre",
+                self.temperature_over_centre,
+                none,
+            ),
+            ("pressure", self.pressure, none),
+            ("pxx", self.pxx, none),
+            ("pyy", self.pyy, none),
+            ("pzz", self.pzz, none),
+            ("pxy", self.pxy, self.pxy_error),
+            ("qx", self.qx, self.qx_error),
+            ("qy", self.qy, self.qy_error),
+            ("n1", self.n1, none),
+            ("n2", self.n2, none),
+            ("local_knudsen", self.local_knudsen, none),
+            ("species1_density", self.species1_density, none),
+            ("species2_density", self.species2_density, none),
+            ("species1_temperature", self.species1_temperature, none),
+            ("species2_temperature", self.species2_temperature, none),
+            ("species1_velocity", self.species1_velocity, none),
+            ("species2_velocity", self.species2_velocity, none),
         ]
     }
 }

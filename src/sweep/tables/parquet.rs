@@ -1,6 +1,7 @@
 //! One table to one Parquet file: typed columns filled cell by cell (NaN and cells of another
 //! type become null), their Arrow arrays and the file, written through polars' Arrow and
-//! Parquet crates with zstd and key-value metadata.
+//! Parquet crates with zstd, key-value metadata, and each field's `unit` and `description` as
+//! field metadata.
 //!
 //! Not through polars' `DataFrame` writer: that one always writes strings as Arrow
 //! `string_view`, which pyarrow < 15 cannot read, and lists of structs would need polars'
@@ -217,12 +218,20 @@ fn read_type(dtype: &ArrowDataType) -> ArrowDataType {
     }
 }
 
+/// A column's unit and description, for its field metadata.
+pub struct FieldDoc {
+    pub unit: String,
+    pub description: String,
+}
+
 /// Write the columns (of equal length) as a Parquet file, zstd-compressed, with the Arrow
-/// schema and `metadata` as its key-value metadata; synced to disk.
+/// schema and `metadata` as its key-value metadata and each column's [`FieldDoc`] (from
+/// `describe`, by column name) as its field metadata; synced to disk.
 pub fn write(
     path: &Path,
     columns: Vec<Column>,
     metadata: &[(String, String)],
+    describe: &dyn Fn(&str) -> Option<FieldDoc>,
 ) -> anyhow::Result<()> {
     let rows = columns.first().map_or(0, Column::len);
     anyhow::ensure!(
@@ -230,9 +239,25 @@ pub fn write(
         "{}: columns of unequal length",
         path.display()
     );
+    let field_metadata = |name: &str| {
+        describe(name).map(|doc| {
+            [
+                ("unit".into(), doc.unit.into()),
+                ("description".into(), doc.description.into()),
+            ]
+            .into_iter()
+            .collect::<polars_arrow::datatypes::Metadata>()
+        })
+    };
     let schema: ArrowSchema = columns
         .iter()
-        .map(|c| Field::new(c.name.as_str().into(), arrow_type(c.kind), true))
+        .map(|c| {
+            let field = Field::new(c.name.as_str().into(), arrow_type(c.kind), true);
+            match field_metadata(&c.name) {
+                Some(m) => field.with_metadata(m),
+                None => field,
+            }
+        })
         .collect();
     anyhow::ensure!(
         schema.len() == columns.len(),
@@ -269,7 +294,10 @@ pub fn write(
     }
     let read_as: ArrowSchema = schema
         .iter_values()
-        .map(|f| Field::new(f.name.clone(), read_type(&f.dtype), true))
+        .map(|f| Field {
+            metadata: f.metadata.clone(),
+            ..Field::new(f.name.clone(), read_type(&f.dtype), true)
+        })
         .collect();
     let mut key_values = vec![schema_to_metadata_key(&read_as)];
     key_values.extend(metadata.iter().map(|(key, value)| KeyValue {
@@ -338,7 +366,13 @@ mod tests {
             Column::from_cells("x", ColumnKind::F64, (0..rows).map(value)),
             modes,
         ];
-        write(&path, columns, &[("k".into(), "v".into())]).unwrap();
+        let describe = |name: &str| {
+            (name == "x").then(|| FieldDoc {
+                unit: "sqrt(g d)".into(),
+                description: "a speed".into(),
+            })
+        };
+        write(&path, columns, &[("k".into(), "v".into())], &describe).unwrap();
         let read = ParquetReader::new(std::fs::File::open(&path).unwrap())
             .with_columns(Some(vec!["id".into(), "n".into(), "x".into()]))
             .finish()
@@ -357,6 +391,14 @@ mod tests {
             read.column("id").unwrap().str().unwrap().get(rows - 1),
             Some((rows - 1).to_string().as_str())
         );
+        // the field metadata, as pyarrow reads it back from the Arrow schema
+        let mut file = std::fs::File::open(&path).unwrap();
+        let schema = ParquetReader::new(&mut file).schema().unwrap();
+        let x = schema.get("x").unwrap();
+        let md = x.metadata.as_ref().expect("field metadata of x");
+        assert_eq!(md.get("unit").map(|v| v.as_str()), Some("sqrt(g d)"));
+        assert_eq!(md.get("description").map(|v| v.as_str()), Some("a speed"));
+        assert!(schema.get("n").unwrap().metadata.is_none());
         let _ = std::fs::remove_dir_all(&dir);
     }
 
