@@ -21,7 +21,7 @@ const SWEEPS: [(&str, &str); 3] = [
         "edmd",
         "(engine: \"edmd\", fixed: (width_over_diameter: 5.0, height_over_diameter: 5.0, volume_fraction: 0.15),
           axes: (length_over_width: [1.0, 2.0]),
-          run: (collisions_per_particle: 300, snapshot_interval: 50, checkpoint_every: 1000))",
+          run: (collisions_per_particle: 300, snapshot_interval: 50, checkpoint_every: 1000, milestones: [100, 250]))",
     ),
     (
         "lga",

@@ -267,6 +267,7 @@ const STRUCTURE_TABLES: &[TableDef] = &[
         ],
     },
     PROFILES_TABLE,
+    EVOLUTION_TABLE,
     TableDef {
         name: "energy",
         columns: &[
@@ -295,6 +296,80 @@ const STRUCTURE_TABLES: &[TableDef] = &[
 ];
 
 const RAREFIED_TABLES: &[TableDef] = &[PROFILES_TABLE];
+
+/// The fields of a milestone's `peaks`.
+const PLANE_PEAK_FIELDS: &[ColumnDef] = &[
+    ColumnDef {
+        name: "plane",
+        kind: ColumnKind::Str,
+        doc: "xy, xz or yz",
+    },
+    ColumnDef {
+        name: "k1",
+        kind: ColumnKind::I64,
+        doc: "wave number along the plane's first axis",
+    },
+    ColumnDef {
+        name: "k2",
+        kind: ColumnKind::I64,
+        doc: "wave number along the plane's second axis",
+    },
+    ColumnDef {
+        name: "ratio",
+        kind: ColumnKind::F64,
+        doc: "power over its shot-noise power",
+    },
+];
+
+/// The structure at the run's milestones (`run.milestones`), one row per milestone reached.
+const EVOLUTION_TABLE: TableDef = TableDef {
+    name: "evolution",
+    columns: &[
+        f64_column("milestone", "the reading asked for, on milestone_clock"),
+        ColumnDef {
+            name: "milestone_clock",
+            kind: ColumnKind::Str,
+            doc: "collisions_per_particle or time",
+        },
+        f64_column(
+            "milestone_collisions_per_particle",
+            "collisions per particle of the record nearest to the milestone",
+        ),
+        f64_column("milestone_time", "simulated time of that record"),
+        ColumnDef {
+            name: "window_snapshots",
+            kind: ColumnKind::I64,
+            doc: "snapshots in the milestone's window",
+        },
+        ColumnDef {
+            name: "structure",
+            kind: ColumnKind::Str,
+            doc: "the window's label with its humps, mixed without a clear majority",
+        },
+        ColumnDef {
+            name: "candidate",
+            kind: ColumnKind::Str,
+            doc: "what the families present in most snapshots name",
+        },
+        f64_column(
+            "probability",
+            "fraction of the window's snapshots whose own label is the candidate",
+        ),
+        ColumnDef {
+            name: "peaks",
+            kind: ColumnKind::List(PLANE_PEAK_FIELDS),
+            doc: "the strongest modes of each plane of the window-averaged spectrum",
+        },
+        f64_column(
+            "translational",
+            "mean translational energy per particle over the window",
+        ),
+        f64_column(
+            "rotational",
+            "mean rotational energy per particle over the window",
+        ),
+    ],
+};
 
 /// Cross-channel profiles of every engine that has them, in one long layout: one row per
 /// quantity and bin (quantities and their scaling as each analysis defines them, listed in
@@ -542,6 +617,37 @@ impl Analysis {
                         })
                         .collect()
                 }
+                "evolution" => a
+                    .milestones
+                    .iter()
+                    .map(|m| {
+                        vec![
+                            m.milestone.into(),
+                            m.clock.as_str().into(),
+                            m.collisions_per_particle.into(),
+                            m.time.into(),
+                            m.window_snapshots.into(),
+                            m.structure.as_str().into(),
+                            m.candidate.as_str().into(),
+                            m.probability.into(),
+                            Cell::List(
+                                m.peaks
+                                    .iter()
+                                    .map(|p| {
+                                        vec![
+                                            p.plane.as_str().into(),
+                                            p.k1.into(),
+                                            p.k2.into(),
+                                            p.ratio.into(),
+                                        ]
+                                    })
+                                    .collect(),
+                            ),
+                            m.translational.into(),
+                            m.rotational.into(),
+                        ]
+                    })
+                    .collect(),
                 "energy" => a
                     .energy
                     .iter()

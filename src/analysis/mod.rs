@@ -18,6 +18,7 @@ pub mod fields;
 mod kind;
 pub mod labels;
 pub mod lattice;
+pub mod milestones;
 pub mod modes;
 pub mod profiles;
 pub mod rarefied;
@@ -51,6 +52,9 @@ pub struct AnalysisSettings {
     pub cell_particles: f64,
     /// fewest snapshots in a steady window (fewer: the run counts as not steady)
     pub min_steady_snapshots: usize,
+    /// the run's milestones (from its `run` section, not an analysis setting)
+    #[serde(skip)]
+    pub milestones: Option<milestones::MilestonePlan>,
 }
 
 impl Default for AnalysisSettings {
@@ -60,6 +64,7 @@ impl Default for AnalysisSettings {
             profile_bins: 25,
             cell_particles: 4.0,
             min_steady_snapshots: 4,
+            milestones: None,
         }
     }
 }
@@ -172,6 +177,9 @@ pub struct JobAnalysis {
     pub energy: Vec<EnergyRow>,
     /// per-snapshot labels where the structure changed (first entry: the initial label)
     pub evolution: Vec<StructureChange>,
+    /// the structure at the run's milestones (the `evolution` table)
+    #[serde(default)]
+    pub milestones: Vec<milestones::MilestoneRow>,
 }
 
 /// The one-row summary of a job's structure.
@@ -476,7 +484,7 @@ fn clock_reading(x: f64) -> String {
 }
 
 /// True when a record carries a usable grid (all plane counts present).
-fn has_fields(r: &SnapshotRecord) -> bool {
+pub(crate) fn has_fields(r: &SnapshotRecord) -> bool {
     let [n1, n2, n3] = r.grid.map(|k| k as usize);
     n1 > 0
         && n2 > 0
@@ -734,5 +742,9 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         profiles,
         energy,
         evolution,
+        milestones: settings
+            .milestones
+            .as_ref()
+            .map_or_else(Vec::new, |plan| milestones::milestone_rows(records, plan)),
     }
 }

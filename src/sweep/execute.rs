@@ -101,6 +101,7 @@ pub fn run_job(
         // run until steady: asked after every snapshot (also right after a resume, so that a
         // job killed after its deciding snapshot stops where the uninterrupted one did)
         if let Some(rule) = &run.until_steady
+            && run.past_milestones(engine.def(), &engine.progress())
             && let Some(reason) = analyser.steady_over(&records, clock, rule.window, &mut check)
         {
             stop_reason = format!("stopped at snapshot {k}: {reason}");

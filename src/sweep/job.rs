@@ -46,7 +46,24 @@ pub struct RunSettings {
     /// stop before the run length (then a cap) once the run is steady: see [`UntilSteady`]
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub until_steady: Option<UntilSteady>,
+    /// readings of `milestone_clock` at which the job records its structure (the `evolution`
+    /// table); with `until_steady`, the run goes on at least to the last of them
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub milestones: Option<Vec<f64>>,
+    /// also a milestone at every multiple of this reading
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub milestone_every: Option<f64>,
+    /// the clock of the milestones (default: collisions per particle where the engine counts
+    /// them, else the run's clock)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub milestone_clock: Option<Clock>,
+    /// snapshots per milestone window (default [`DEFAULT_MILESTONE_WINDOW`])
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub milestone_window: Option<u32>,
 }
+
+/// Snapshots per milestone window unless the run says otherwise.
+pub const DEFAULT_MILESTONE_WINDOW: u32 = 5;
 
 /// Run until steady: after every snapshot the job asks its analysis, from the records alone,
 /// whether the run is steady (the documented detector, balances included) over a window of at
@@ -206,7 +223,123 @@ impl RunSettings {
                     .into(),
             ));
         }
+        self.validate_milestones(engine)
+    }
+
+    /// Milestones need the structure analysis (its records carry both clocks); readings finite,
+    /// > 0 and increasing; a window of 1 to 1000 snapshots.
+    fn validate_milestones(&self, engine: &EngineDef) -> Result<(), (&'static str, String)> {
+        let given = self.milestones.is_some() || self.milestone_every.is_some();
+        if !given {
+            for (key, set) in [
+                ("milestone_clock", self.milestone_clock.is_some()),
+                ("milestone_window", self.milestone_window.is_some()),
+            ] {
+                if set {
+                    return Err((
+                        key,
+                        "given without `milestones` or `milestone_every`".into(),
+                    ));
+                }
+            }
+            return Ok(());
+        }
+        if engine.analysis != crate::analysis::AnalysisKind::Structure {
+            return Err((
+                "milestones",
+                format!(
+                    "the {} engine's analysis records no structure at milestones (only engines with the structure analysis do: {})",
+                    engine.name,
+                    crate::engine::registry::ENGINES
+                        .iter()
+                        .filter(|e| e.analysis == crate::analysis::AnalysisKind::Structure)
+                        .map(|e| e.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        }
+        if let Some(clock) = self.milestone_clock
+            && clock == Clock::Steps
+        {
+            return Err((
+                "milestone_clock",
+                "\"steps\": allowed \"collisions_per_particle\" or \"time\"".into(),
+            ));
+        }
+        if let Some(list) = &self.milestones {
+            if list.is_empty() {
+                return Err(("milestones", "empty: give at least one reading".into()));
+            }
+            for (i, &m) in list.iter().enumerate() {
+                if !(m.is_finite() && m > 0.0) {
+                    return Err((
+                        "milestones",
+                        format!("{m} is out of range: allowed finite readings > 0"),
+                    ));
+                }
+                if i > 0 && m <= list[i - 1] {
+                    return Err((
+                        "milestones",
+                        format!(
+                            "{m} follows {}: give the readings in increasing order",
+                            list[i - 1]
+                        ),
+                    ));
+                }
+            }
+        }
+        if let Some(every) = self.milestone_every
+            && !(every.is_finite() && every > 0.0)
+        {
+            return Err((
+                "milestone_every",
+                format!("{every} is out of range: allowed a finite reading > 0"),
+            ));
+        }
+        if let Some(w) = self.milestone_window
+            && !(1..=1000).contains(&w)
+        {
+            return Err((
+                "milestone_window",
+                format!("{w} is out of range: allowed 1 to 1000 snapshots"),
+            ));
+        }
         Ok(())
+    }
+
+    /// The milestone plan of this run for `engine` (None without milestones).
+    pub fn milestone_plan(
+        &self,
+        engine: &EngineDef,
+    ) -> Option<crate::analysis::milestones::MilestonePlan> {
+        if self.milestones.is_none() && self.milestone_every.is_none() {
+            return None;
+        }
+        let clock =
+            self.milestone_clock
+                .unwrap_or(if engine.has_clock(Clock::CollisionsPerParticle) {
+                    Clock::CollisionsPerParticle
+                } else {
+                    self.clock()
+                });
+        Some(crate::analysis::milestones::MilestonePlan {
+            clock,
+            readings: self.milestones.clone().unwrap_or_default(),
+            every: self.milestone_every.unwrap_or(0.0),
+            window: self.milestone_window.unwrap_or(DEFAULT_MILESTONE_WINDOW) as usize,
+        })
+    }
+
+    /// Whether a run at `progress` has passed its last listed milestone (runs until steady
+    /// decide only after it; true without listed milestones).
+    pub fn past_milestones(&self, engine: &EngineDef, progress: &crate::engine::Progress) -> bool {
+        match (self.milestone_plan(engine), &self.milestones) {
+            (Some(plan), Some(list)) => list
+                .last()
+                .is_none_or(|&last| progress.on(plan.clock) >= last),
+            _ => true,
+        }
     }
 
     /// Number of snapshots after the initial one: ceil(run length / interval).
@@ -285,9 +418,13 @@ impl JobParams {
         id_of_canonical(&self.canonical())
     }
 
-    /// The analysis of this job's engine with the job's settings.
+    /// The analysis of this job's engine with the job's settings (and the run's milestones).
     pub fn analyser(&self) -> Result<crate::analysis::Analyser, String> {
-        self.def().analysis.analyser(&self.analysis)
+        let mut analyser = self.def().analysis.analyser(&self.analysis)?;
+        if let crate::analysis::Analyser::Structure(settings) = &mut analyser {
+            settings.milestones = self.run.milestone_plan(self.def());
+        }
+        Ok(analyser)
     }
 }
 
