@@ -186,3 +186,33 @@ fn milestones_are_refused_where_they_cannot_be_kept() {
         assert!(said.contains(wanted), "`{wanted}` not said: {said}");
     }
 }
+
+/// Every shipped sweep loads and validates (milestones included); the chapter 5 sweep holds
+/// the thesis' 16 distinct points and the figure sweeps' jobs are among them.
+#[test]
+fn the_shipped_sweeps_load_and_chapter_5_holds_every_figure_point() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps");
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "ron") {
+            load_sweep(&path, &[]).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            names.push(path);
+        }
+    }
+    assert!(names.len() >= 4);
+    let chapter = load_sweep(&dir.join("thesis-chapter5.ron"), &[]).unwrap();
+    assert_eq!(chapter.plan.len(), 16);
+    let ids: std::collections::BTreeSet<_> = chapter.plan.iter().map(|j| j.id.clone()).collect();
+    assert_eq!(ids.len(), 16, "two points of the chapter are the same job");
+    for fig in ["thesis-fig5-25", "thesis-fig5-26", "thesis-fig5-27"] {
+        let sweep = load_sweep(&dir.join(format!("{fig}.ron")), &[]).unwrap();
+        for job in &sweep.plan {
+            assert!(
+                ids.contains(&job.id),
+                "{fig}: job {} is not in the chapter sweep",
+                job.id
+            );
+        }
+    }
+}
