@@ -526,3 +526,43 @@ fn overnight_logs_name_parameters_and_the_sweeps_progress() {
         "{log}"
     );
 }
+
+/// `plan` calibrates its estimate on the sweep's own finished jobs: before any job has run it
+/// says it uses the engine's typical rate, after one has finished the measured one; a run
+/// until steady shows its work as a range (its last milestone to its cap).
+#[test]
+fn plan_estimates_from_what_the_sweep_measured() {
+    let dir = scratch("plan-estimate");
+    let file = dir.join("p.ron");
+    std::fs::write(
+        &file,
+        "(engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0, volume_fraction: 0.15),\n axes: (length_over_width: [1.0, 2.0]), run: (collisions_per_particle: 400, snapshot_interval: 20, milestones: [100], until_steady: (window: 100)))",
+    )
+    .unwrap();
+    let (f, r) = (file.to_str().unwrap(), dir.join("r"));
+    let r = r.to_str().unwrap();
+    let plan = |threads: &str| {
+        let out = granflow(&["plan", f, "--results", r, "--threads", threads]);
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let before = plan("2");
+    assert!(before.contains("typical"), "{before}");
+    assert!(
+        before.contains(" to "),
+        "no range for a run until steady: {before}"
+    );
+    let out = granflow(&[
+        "run",
+        f,
+        "--results",
+        r,
+        "--job-range",
+        "0:1",
+        "--threads",
+        "1",
+    ]);
+    assert!(out.status.success());
+    let after = plan("2");
+    assert!(after.contains("measured on 1 finished jobs"), "{after}");
+}

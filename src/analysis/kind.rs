@@ -44,6 +44,9 @@ pub enum Record {
 
 /// A job's analysis, by kind (untagged in `result.ron`: results written before there were
 /// kinds read as [`Analysis::Structure`]).
+// (a handful of these exist at a time, one per job being written or read: their size does not
+// matter, and boxing would only add indirection to every match)
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum Analysis {

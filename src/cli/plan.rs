@@ -23,6 +23,9 @@ pub struct PlanArgs {
     /// only jobs whose parameters meet this condition (repeatable), e.g. --where restitution=0.7
     #[arg(long = "where", value_name = "CONDITION")]
     pub conditions: Vec<String>,
+    /// threads the sweep will run on (for the wall-time estimate; default: all cores)
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 pub fn run(args: PlanArgs) -> anyhow::Result<()> {
@@ -53,23 +56,27 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
     }
     header.push_str("  seed");
     outln!("{header}");
-    let mut total_work = 0.0;
-    for j in &jobs {
+    let estimate = crate::sweep::estimate::estimate(&jobs, &|job| dirs.job_dir(&job.id));
+    for (j, e) in jobs.iter().zip(&estimate.jobs) {
         let p = &j.job.params;
-        total_work += p.estimated_work();
         let state = match &j.state {
             store::JobState::Partial(c) => {
                 format!("{:.0}{}", c.on(p.run.clock()), p.run.clock().unit())
             }
             s => s.name().to_string(),
         };
+        let work = if e.least < e.most {
+            format!("{:.2e}-{:.2e}", e.least, e.most)
+        } else {
+            format!("{:.3e}", e.most)
+        };
         let mut line = format!(
-            "{:>5}  {:<16}  {:<8}  {:>8}  {:>10.3e}",
+            "{:>5}  {:<16}  {:<8}  {:>8}  {:>10}",
             j.job.index,
             j.job.id.0,
             state,
             p.size(),
-            p.estimated_work()
+            work
         );
         for s in &swept {
             line.push_str(&format!(
@@ -81,11 +88,35 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
         line.push_str(&format!("  {}", p.seed));
         outln!("{line}");
     }
+    let threads = args
+        .threads
+        .unwrap_or_else(|| crate::sweep::runner::RunOptions::default().threads);
+    let remaining: f64 = estimate.jobs.iter().map(|e| e.remaining).sum();
+    let (least, most): (f64, f64) = estimate
+        .jobs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), e| (a + e.least, b + e.most));
+    let range = if most > least {
+        format!("{least:.3e} to {most:.3e}")
+    } else {
+        format!("{most:.3e}")
+    };
     outln!(
-        "estimated work: {total_work:.3e} {unit} (about {:.0} core-seconds at {:.1e} {unit}/s)",
-        total_work / engine.work_rate,
-        engine.work_rate,
+        "work: {range} {unit} in all, {remaining:.3e} still to do{}",
+        if most > least {
+            " (a run until steady stops between its last milestone and its cap)"
+        } else {
+            ""
+        },
         unit = engine.work_unit,
+    );
+    outln!(
+        "estimated time still to go: {} core-hours, about {} wall on {threads} threads (longest job first), at {}",
+        format_args!("{:.1}", estimate.core_seconds() / 3600.0),
+        humantime::format_duration(std::time::Duration::from_secs(
+            estimate.wall_seconds(threads) as u64
+        )),
+        estimate.rate_basis
     );
     Ok(())
 }

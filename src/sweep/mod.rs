@@ -13,6 +13,7 @@
 //! - [`tables::gather`]: write the Parquet tables of a results directory.
 
 pub mod curves;
+pub mod estimate;
 pub mod execute;
 pub mod fs_error;
 pub mod grid;
