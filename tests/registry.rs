@@ -189,10 +189,9 @@ fn pre_registry_files_still_read() {
 /// exactly what the declarations generate.
 #[test]
 fn readme_parameter_tables_match_the_declarations() {
-    let readme = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/parameters.md"),
-    )
-    .unwrap();
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/parameters.md"))
+            .unwrap();
     let out = granflow(&["engines", "--markdown"]);
     assert!(out.status.success());
     let generated = String::from_utf8(out.stdout).unwrap();
