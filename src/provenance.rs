@@ -1,7 +1,7 @@
 //! Provenance: which code made a result (granflow version, the commit it was built from, the
 //! physics version of the engine and the version of the analysis), where and when.
 //!
-//! Job ids hold the physical input only (README "Job ids"): a result made by another engine or
+//! Job ids hold the physical input only (docs/sweeps.md, "Job ids"): a result made by another engine or
 //! analysis version keeps its id and is *flagged* as outdated by `status` and the tables;
 //! `granflow run --rerun-outdated` recomputes it (from scratch when the engine changed, from the
 //! job's last checkpoint, whose records are complete, when only the analysis did).

@@ -1,6 +1,6 @@
 //! The engine registry (issue 12, part 1): job ids of the sweeps shipped before it exist are
 //! unchanged, files written before it still read (and resume to the same result), EDMD tables
-//! keep their columns (under the names and types of issue 14), README's parameter tables are
+//! keep their columns (under the names and types of issue 14), the parameter tables of docs/parameters.md are
 //! the declarations', results/README.md documents every column, and keys are checked against
 //! the engine a sweep names.
 

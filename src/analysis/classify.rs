@@ -495,7 +495,7 @@ pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64) -> Assessment {
 }
 
 /// The structure named by which families are significant ([`FAMILY_NAMES`] order), the
-/// coherence of the antisymmetric excess and its dominant k_x (README's label table).
+/// coherence of the antisymmetric excess and its dominant k_x (the label table of docs/analysis.md).
 pub fn name_structure(significant: [bool; 5], coherence: f64, kx: u32) -> (&'static str, u32) {
     let [transverse, along, anti, sym, _span] = significant;
     if anti && along {

@@ -2,7 +2,7 @@
 //! noise-derived thresholds as always), and the window's label is decided from those
 //! per-snapshot verdicts rather than from one average.
 //!
-//! Rule (README "Labels with probabilities"):
+//! Rule (docs/analysis.md, "Labels with probabilities"):
 //! 1. a family is *present* when it is significant in more than half of the window's snapshots
 //!    (its `presence` is that fraction; its strength is the window-averaged significance);
 //! 2. the candidate label is the structure the present families name (the label table; humps

@@ -8,8 +8,8 @@
 //! Modules: [`fields`] (grid and cellwise averages), [`spectrum`] (2D FFT power spectra),
 //! [`profiles`] (binwise profiles across the channel), [`steady`] (steady-state detector),
 //! [`classify`] (family decomposition vs shot noise, labels), `report` (evolution, rows and
-//! mode lists of the result), [`modes`] (the dominant modes and family peaks), [`snapshot_io`] (XYZ and VTK files). The definitions, defaults and thresholds are documented in README.md, section
-//! "Analysis and structure classifier".
+//! mode lists of the result), [`modes`] (the dominant modes and family peaks), [`snapshot_io`] (XYZ and VTK files), [`milestones`] (the structure at given clock
+//! readings). The definitions, defaults and thresholds are documented in docs/analysis.md.
 
 pub mod balance;
 pub mod classify;

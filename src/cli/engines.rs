@@ -1,6 +1,6 @@
 //! `granflow engines`: the registry's engines with their parameters, clocks and counters;
-//! `--markdown` prints README's parameter tables (generated, so README cannot drift from the
-//! declarations: a test compares them).
+//! `--markdown` prints the parameter tables of docs/parameters.md (generated, so the document
+//! cannot drift from the declarations: a test compares them).
 
 use super::out::{out, outln};
 use crate::engine::registry;
@@ -9,14 +9,14 @@ use clap::Args;
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
   granflow engines              # every engine with its parameters, clocks and counters
-  granflow engines --markdown   # the parameter tables of README.md")]
+  granflow engines --markdown   # the parameter tables of docs/parameters.md")]
 pub struct EnginesArgs {
-    /// print the parameter tables as markdown (the ones README shows)
+    /// print the parameter tables as markdown (the ones docs/parameters.md shows)
     #[arg(long)]
     pub markdown: bool,
 }
 
-/// README's section of parameter tables: one heading line and table per engine.
+/// The parameter tables of docs/parameters.md: one heading line and table per engine.
 pub fn markdown() -> String {
     let mut out = String::new();
     for e in registry::ENGINES {

@@ -33,7 +33,7 @@ pub struct Cli {
 pub enum Command {
     /// Run a single simulation of any engine from flags or a RON file and print progress.
     Sim(sim::SimArgs),
-    /// List the engines and their parameters (`--markdown`: README's parameter tables).
+    /// List the engines and their parameters (`--markdown`: the parameter tables of docs/parameters.md).
     Engines(engines::EnginesArgs),
     /// Measure engine speed on standard workloads (collisions/s, events/s, memory).
     Bench(bench::BenchArgs),

@@ -99,8 +99,11 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
     if let Some(path) = &args.params {
         let text = std::fs::read_to_string(path)
             .map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
-        let values: ParamValues =
-            ron::from_str(&text).map_err(|e| bad(format!("{}: {e}", path.display())))?;
+        // read as a sweep file's `fixed` section is (values with or without `Some(..)`)
+        let values: ParamValues = ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+            .from_str(&text)
+            .map_err(|e| bad(format!("{}: {e}", path.display())))?;
         for (k, v) in values.0 {
             let text = match v {
                 ParamValue::Number(x) => format!("{x}"),

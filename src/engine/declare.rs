@@ -1,7 +1,7 @@
 //! The shape of an engine declaration ([`EngineDef`]): name, parameters ([`ParamDef`]: symbol,
 //! unit, default, allowed range, doc, place in the job id), derived quantities, clocks, work and
 //! memory estimates, counters, how to build and restore it, and which analysis its snapshots
-//! feed. Sweep files, validation, `--set`, `plan`, job ids, tables, `sim` flags and README's
+//! feed. Sweep files, validation, `--set`, `plan`, job ids, tables, `sim` flags and the
 //! parameter tables are all generated from these declarations.
 
 use super::{Engine, EngineError};
@@ -445,7 +445,7 @@ impl EngineDef {
         Ok(values)
     }
 
-    /// README's parameter table of this engine (markdown), generated from the declaration.
+    /// The parameter table of this engine in docs/parameters.md (markdown), generated from the declaration.
     pub fn markdown_table(&self) -> String {
         let mut out = String::from(
             "| key | symbol | unit | default | allowed | meaning |\n| --- | --- | --- | --- | --- | --- |\n",

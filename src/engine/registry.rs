@@ -1,6 +1,6 @@
 //! The registry: the one list of the engines granflow has. Adding an engine means writing its
 //! declaration ([`super::EngineDef`], next to its code) and adding it here; sweep files, ids,
-//! tables, `sim`, `plan` and README's parameter tables follow from the declaration.
+//! tables, `sim`, `plan` and the parameter tables of docs/parameters.md follow from the declaration.
 
 use super::EngineDef;
 

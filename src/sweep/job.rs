@@ -1,7 +1,7 @@
 //! Job identity: a job's resolved parameters ([`JobParams`]) and its id ([`JobId`]), the hash
 //! of their canonical form, and the run settings ([`RunSettings`]).
 //!
-//! Canonical form (the id contract, documented in README "## Sweeps"): a JSON object with keys
+//! Canonical form (the id contract, documented in docs/sweeps.md, "Job ids"): a JSON object with keys
 //! sorted, no whitespace, numbers in Rust's shortest round-trip notation:
 //! `{"analysis":{..},"engine":"edmd","params":{..},"run":{..},"seed":S}` where `params` holds
 //! the engine's declared parameters ([`crate::engine::EngineDef::params`]): those marked

@@ -93,7 +93,7 @@ impl RangeCall {
         Ok(call)
     }
 
-    /// The values of the range (see the README's "Ranges" for the rules).
+    /// The values of the range (see the "Ranges" in docs/sweeps.md for the rules).
     pub fn expand(&self) -> Result<Vec<f64>, String> {
         let bad = |m: String| Err(format!("`{self}`: {m}"));
         let a = &self.args;

@@ -228,7 +228,7 @@ fn seeds<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<u64>, D::Error> {
         .collect())
 }
 
-/// A sweep file as written (see README "## Sweeps").
+/// A sweep file as written (see docs/sweeps.md).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SweepSpec {

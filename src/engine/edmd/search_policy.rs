@@ -11,7 +11,7 @@ use super::checkpoint::EdmdCounters;
 use serde::{Deserialize, Serialize};
 
 /// Below this many bookkeeping events per pair collision with cells, lists are cheaper.
-/// Measured (README, "Performance"): channels at W/d = 15-50 where lists were 1.2-2.7x faster
+/// Measured (docs/performance.md): channels at W/d = 15-50 where lists were 1.2-2.7x faster
 /// ran 0.18-0.57 with cells, those where cells were 1.3-1.9x faster 0.85-1.33; a periodic box
 /// at phi = 0.30, where both are even, runs about 0.6.
 pub const LISTS_BELOW: f64 = 0.6;
