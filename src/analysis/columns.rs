@@ -50,6 +50,9 @@ pub struct TableDef {
     /// file stem: `<name>.parquet`
     pub name: &'static str,
     pub columns: &'static [ColumnDef],
+    /// units of columns, written into the Parquet field metadata as `unit` (column name,
+    /// unit; columns not listed carry no field metadata)
+    pub units: &'static [(&'static str, &'static str)],
 }
 
 /// One value of a row.

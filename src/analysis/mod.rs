@@ -24,9 +24,10 @@ pub mod rarefied;
 mod report;
 pub mod snapshot_io;
 pub mod spectrum;
+pub mod statistics;
 pub mod steady;
 
-pub use kind::{Analyser, Analysis, AnalysisKind, Record, StopCheck};
+pub use kind::{Analyser, Analysis, AnalysisKind, Record, StatisticsSnapshot, StopCheck};
 pub use profiles::BinSums;
 pub use report::MIN_LABEL_RUN;
 pub use snapshot_io::{SnapshotNames, write_vtk_density, write_xyz};
@@ -172,6 +173,9 @@ pub struct JobAnalysis {
     pub energy: Vec<EnergyRow>,
     /// per-snapshot labels where the structure changed (first entry: the initial label)
     pub evolution: Vec<StructureChange>,
+    /// the thesis' statistics (runs with `run.statistics` only)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub statistics: Option<Box<statistics::Statistics>>,
 }
 
 /// The one-row summary of a job's structure.
@@ -734,5 +738,6 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         profiles,
         energy,
         evolution,
+        statistics: None,
     }
 }
