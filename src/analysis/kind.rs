@@ -76,6 +76,12 @@ impl AnalysisKind {
         }
     }
 
+    /// Whether runs of this kind can gather the thesis' statistics (`run.statistics`): the
+    /// structure analysis, whose snapshots carry particles with velocities.
+    pub fn supports_statistics(self) -> bool {
+        matches!(self, AnalysisKind::Structure)
+    }
+
     /// Whether a run of this kind can stop once steady (`run.until_steady`).
     pub fn supports_until_steady(self) -> bool {
         matches!(self, AnalysisKind::Structure)
@@ -471,13 +477,17 @@ impl Analyser {
     pub fn analyse(&self, records: &[Record]) -> Result<Analysis, String> {
         match self {
             Analyser::Structure(s) => {
-                let records: Vec<SnapshotRecord> =
-                    records.iter().filter_map(|r| r.structure().cloned()).collect();
+                let records: Vec<SnapshotRecord> = records
+                    .iter()
+                    .filter_map(|r| r.structure().cloned())
+                    .collect();
                 Ok(Analysis::Structure(super::analyse_job(&records, s)))
             }
             Analyser::StructureWithStatistics(s, plan) => {
-                let structure: Vec<SnapshotRecord> =
-                    records.iter().filter_map(|r| r.structure().cloned()).collect();
+                let structure: Vec<SnapshotRecord> = records
+                    .iter()
+                    .filter_map(|r| r.structure().cloned())
+                    .collect();
                 let mut a = super::analyse_job(&structure, s);
                 let with: Vec<super::statistics::WindowRecord> = records
                     .iter()
@@ -540,8 +550,10 @@ impl Analyser {
     ) -> Option<String> {
         match self {
             Analyser::Structure(s) | Analyser::StructureWithStatistics(s, _) => {
-                let records: Vec<SnapshotRecord> =
-                    records.iter().filter_map(|r| r.structure().cloned()).collect();
+                let records: Vec<SnapshotRecord> = records
+                    .iter()
+                    .filter_map(|r| r.structure().cloned())
+                    .collect();
                 super::steady_over(&records, s, clock, window, &mut check.structure)
             }
             // validation refuses `until_steady` for kinds without a steady rule
@@ -648,9 +660,11 @@ impl Analysis {
                 "profiles" => a
                     .profiles
                     .iter()
-                    .chain(&a.statistics.as_deref().map_or_else(Vec::new, |s| {
-                        super::statistics::tables::profile_rows(s)
-                    }))
+                    .chain(
+                        &a.statistics
+                            .as_deref()
+                            .map_or_else(Vec::new, |s| super::statistics::tables::profile_rows(s)),
+                    )
                     .map(|r| {
                         vec![
                             r.quantity.as_str().into(),

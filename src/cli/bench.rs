@@ -357,11 +357,7 @@ fn bytes_per_particle(baseline: Option<f64>, n: usize, fallback: f64) -> f64 {
     }
 }
 
-fn measure(
-    w: &Workload,
-    search: SearchPolicy,
-    args: &BenchArgs,
-) -> anyhow::Result<BenchResult> {
+fn measure(w: &Workload, search: SearchPolicy, args: &BenchArgs) -> anyhow::Result<BenchResult> {
     let measured_cpp = args.collisions_per_particle;
     let baseline = memory_baseline();
     let mut engine = EdmdEngine::with_policy(w.params.clone(), search)?;
@@ -409,7 +405,9 @@ fn measure(
 /// default settings, with the default statistics when asked.
 fn snapshot_analyser(args: &BenchArgs) -> anyhow::Result<crate::analysis::Analyser> {
     let kind = crate::analysis::AnalysisKind::Structure;
-    let structure = kind.analyser(&kind.default_settings()).map_err(anyhow::Error::msg)?;
+    let structure = kind
+        .analyser(&kind.default_settings())
+        .map_err(anyhow::Error::msg)?;
     Ok(if args.statistics {
         structure.with_statistics(crate::analysis::statistics::StatisticsPlan::every_snapshot(
             crate::analysis::statistics::StatisticsSettings::default(),

@@ -154,7 +154,9 @@ mod tests {
 
     #[test]
     fn lengths_fall_between_their_bin_edges() {
-        for &l in &[3e-4, 0.01, 0.1234, 0.5, 1.0, 1.0625, 1.99, 7.3, 100.0, 9000.0] {
+        for &l in &[
+            3e-4, 0.01, 0.1234, 0.5, 1.0, 1.0625, 1.99, 7.3, 100.0, 9000.0,
+        ] {
             let i = length_index(l);
             assert!(i > 0 && i < STRIDE - 1, "{l}");
             let (lo, hi) = length_edges(i - 1);

@@ -9,11 +9,13 @@
 //! [`InId::AwayFromDefault`] only where they differ from the default, and never those marked
 //! [`InId::Never`] (derived ones, like phi from N); `run` holds the run length on its clock
 //! (`collisions_per_particle`, `steps` or `time`), `snapshot_interval` and, only when set,
-//! `until_steady` (`{"window":W}`); `analysis` holds
+//! `until_steady` (`{"window":W}`) and, only when set, `statistics` (the statistics settings
+//! that differ from their defaults, `{}` when none does); `analysis` holds
 //! only the analysis settings that differ from their defaults. The id is the first 16 hex
 //! digits of SHA-256 of that text. So adding a new optional parameter (declared with
 //! `AwayFromDefault`) or a new analysis setting leaves every existing id unchanged.
 
+use crate::analysis::statistics::{StatisticsPlan, StatisticsSettings};
 use crate::engine::declare::InId;
 use crate::engine::{Clock, EngineDef, EngineError, ParamDef, ParamValue, Values, registry};
 use serde::{Deserialize, Serialize};
@@ -46,6 +48,10 @@ pub struct RunSettings {
     /// stop before the run length (then a cap) once the run is steady: see [`UntilSteady`]
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub until_steady: Option<UntilSteady>,
+    /// the thesis' statistics (VDFs, g(r), Lambda, velocity correlations, free paths, wall
+    /// values): opt-in, see [`crate::analysis::statistics`]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub statistics: Option<StatisticsSettings>,
 }
 
 /// Run until steady: after every snapshot the job asks its analysis, from the records alone,
@@ -190,6 +196,36 @@ impl RunSettings {
                 ),
             ));
         }
+        if let Some(st) = &self.statistics {
+            if !engine.analysis.supports_statistics() {
+                return Err((
+                    "statistics",
+                    format!(
+                        "the {} engine's snapshots carry no particles: the statistics need \
+                         particles with velocities (engines with them: the structure analysis')",
+                        engine.name
+                    ),
+                ));
+            }
+            st.validate().map_err(|(key, m)| {
+                (
+                    "statistics",
+                    format!("{key}: {m}; keys: {}", crate::analysis::statistics::KEYS),
+                )
+            })?;
+            if let Some(w) = st.window
+                && w > length
+            {
+                return Err((
+                    "statistics",
+                    format!(
+                        "window = {w} is out of range: allowed 0 < window <= {} ({length}), in {}",
+                        clock.key(),
+                        clock.key()
+                    ),
+                ));
+            }
+        }
         if self.checkpoint_every == 0 {
             return Err((
                 "checkpoint_every",
@@ -276,9 +312,19 @@ impl JobParams {
         id_of_canonical(&self.canonical())
     }
 
-    /// The analysis of this job's engine with the job's settings.
+    /// The analysis of this job's engine with the job's settings (and its statistics, when
+    /// the run asks for them).
     pub fn analyser(&self) -> Result<crate::analysis::Analyser, String> {
-        self.def().analysis.analyser(&self.analysis)
+        let analyser = self.def().analysis.analyser(&self.analysis)?;
+        Ok(match &self.run.statistics {
+            Some(s) => analyser.with_statistics(StatisticsPlan::for_run(
+                s.clone(),
+                self.run.clock(),
+                self.run.length(),
+                self.run.until_steady.is_some(),
+            )),
+            None => analyser,
+        })
     }
 }
 
@@ -321,6 +367,9 @@ pub fn canonical_with(table: &[ParamDef], job: &JobParams) -> String {
             .into_iter()
             .collect();
         run.insert("until_steady".to_string(), Value::Object(rule));
+    }
+    if let Some(s) = &job.run.statistics {
+        run.insert("statistics".to_string(), Value::Object(s.non_default()));
     }
     let mut top = BTreeMap::new();
     top.insert(

@@ -11,6 +11,10 @@ use serde::{Deserialize, Serialize};
 
 /// One point of P(l).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    into = "(Option<u32>, f64, f64, f64)",
+    from = "(Option<u32>, f64, f64, f64)"
+)]
 pub struct FreePathRow {
     /// slab of the paths' midpoints; None: all slabs
     pub slab: Option<u32>,
@@ -23,6 +27,7 @@ pub struct FreePathRow {
 
 /// The mean free path of one slab.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(into = "(u32, f64, f64, f64, u64)", from = "(u32, f64, f64, f64, u64)")]
 pub struct KnudsenRow {
     pub slab: u32,
     pub y: f64,
@@ -109,3 +114,13 @@ pub fn analyse(
     }
     Some(out)
 }
+
+row_as_tuple!(FreePathRow { slab: Option<u32>, y: f64, l: f64, p: f64 });
+
+row_as_tuple!(KnudsenRow {
+    slab: u32,
+    y: f64,
+    mean_free_path: f64,
+    knudsen: f64,
+    paths: u64
+});

@@ -25,6 +25,23 @@
 //! reached, or without `window` the structure analysis' window (its steady window, else the
 //! final third).
 
+/// Rows of the statistics are kept in `result.ron` as tuples (one line each, in field order)
+/// rather than as structs (a field per line): tens of thousands of rows per job.
+macro_rules! row_as_tuple {
+    ($row:ident { $($f:ident: $t:ty),* $(,)? }) => {
+        impl From<$row> for ($($t,)*) {
+            fn from(r: $row) -> Self {
+                ($(r.$f,)*)
+            }
+        }
+        impl From<($($t,)*)> for $row {
+            fn from(($($f,)*): ($($t,)*)) -> Self {
+                $row { $($f),* }
+            }
+        }
+    };
+}
+
 pub mod blocks;
 pub mod fluctuations;
 pub mod free_path;
@@ -79,7 +96,7 @@ impl Default for StatisticsSettings {
             cells: [1, 1],
             r_max: 5.0,
             dr: 0.02,
-            vcf_dr: 0.25,
+            vcf_dr: 0.2,
             vdf_max: 8.0,
             vdf_dx: 0.2,
         }
@@ -94,39 +111,70 @@ impl StatisticsSettings {
     pub fn validate(&self) -> Result<(), (&'static str, String)> {
         let finite_positive = |v: f64| v.is_finite() && v > 0.0;
         if self.bins == 0 || self.bins > 10_000 {
-            return Err(("bins", format!("{} is out of range: allowed 1 to 10000", self.bins)));
+            return Err((
+                "bins",
+                format!("{} is out of range: allowed 1 to 10000", self.bins),
+            ));
         }
         if let Some(w) = self.window
             && !finite_positive(w)
         {
-            return Err(("window", format!("{w} is out of range: allowed a finite value > 0")));
+            return Err((
+                "window",
+                format!("{w} is out of range: allowed a finite value > 0"),
+            ));
         }
         if self.every == 0 {
-            return Err(("every", "0 is out of range: allowed a whole number >= 1".into()));
+            return Err((
+                "every",
+                "0 is out of range: allowed a whole number >= 1".into(),
+            ));
         }
         if self.cells.iter().any(|&c| c == 0 || c > 1000) {
             return Err((
                 "cells",
-                format!("{:?} is out of range: allowed 1 to 1000 cells along x and z", self.cells),
+                format!(
+                    "{:?} is out of range: allowed 1 to 1000 cells along x and z",
+                    self.cells
+                ),
             ));
         }
         if !(finite_positive(self.r_max) && self.r_max <= 1000.0) {
-            return Err(("r_max", format!("{} is out of range: allowed 0 < r_max <= 1000 d", self.r_max)));
+            return Err((
+                "r_max",
+                format!(
+                    "{} is out of range: allowed 0 < r_max <= 1000 d",
+                    self.r_max
+                ),
+            ));
         }
         if !(finite_positive(self.dr) && self.r_max / self.dr <= 100_000.0) {
             return Err((
                 "dr",
-                format!("{} is out of range: allowed dr > 0 with at most 100000 bins up to r_max", self.dr),
+                format!(
+                    "{} is out of range: allowed dr > 0 with at most 100000 bins up to r_max",
+                    self.dr
+                ),
             ));
         }
         let per = (self.vcf_dr / self.dr).round();
-        if !(finite_positive(self.vcf_dr) && per >= 1.0 && (per * self.dr - self.vcf_dr).abs() <= 1e-9 * self.vcf_dr) {
+        if !(finite_positive(self.vcf_dr)
+            && per >= 1.0
+            && (per * self.dr - self.vcf_dr).abs() <= 1e-9 * self.vcf_dr)
+        {
             return Err((
                 "vcf_dr",
-                format!("{} is out of range: allowed a whole multiple of dr = {}", self.vcf_dr, self.dr),
+                format!(
+                    "{} is out of range: allowed a whole multiple of dr = {}",
+                    self.vcf_dr, self.dr
+                ),
             ));
         }
-        if !(finite_positive(self.vdf_dx) && finite_positive(self.vdf_max) && self.vdf_max / self.vdf_dx <= 10_000.0 && self.vdf_max >= self.vdf_dx) {
+        if !(finite_positive(self.vdf_dx)
+            && finite_positive(self.vdf_max)
+            && self.vdf_max / self.vdf_dx <= 10_000.0
+            && self.vdf_max >= self.vdf_dx)
+        {
             return Err((
                 "vdf_dx",
                 format!(
@@ -146,7 +194,8 @@ impl StatisticsSettings {
     /// The settings that differ from the defaults, as JSON (what a job id holds).
     pub fn non_default(&self) -> serde_json::Map<String, serde_json::Value> {
         let now = serde_json::to_value(self).expect("settings serialise");
-        let defaults = serde_json::to_value(StatisticsSettings::default()).expect("settings serialise");
+        let defaults =
+            serde_json::to_value(StatisticsSettings::default()).expect("settings serialise");
         match now {
             serde_json::Value::Object(m) => m
                 .into_iter()
@@ -179,7 +228,12 @@ impl StatisticsPlan {
     }
 
     /// The plan of a run of `length` on `clock` (stopping early when `until_steady`).
-    pub fn for_run(settings: StatisticsSettings, clock: Clock, length: f64, until_steady: bool) -> Self {
+    pub fn for_run(
+        settings: StatisticsSettings,
+        clock: Clock,
+        length: f64,
+        until_steady: bool,
+    ) -> Self {
         let skip_before = match settings.window {
             Some(w) if !until_steady => (length - w).max(0.0),
             _ => 0.0,
@@ -238,13 +292,25 @@ pub fn sample(p: &Particles, settings: &StatisticsSettings) -> Sample {
                 count: vec![0; slabs],
             }
         },
-        pairs: pairs::sample(p, &f, slabs, settings.r_max, settings.dr, settings.per_vcf_bin()),
+        pairs: pairs::sample(
+            p,
+            &f,
+            slabs,
+            settings.r_max,
+            settings.dr,
+            settings.per_vcf_bin(),
+        ),
     }
 }
 
 impl StatisticsPlan {
     /// The record of snapshot `index`, with the free paths the engine handed over after it.
-    pub fn record(&self, index: u32, snapshot: &Snapshot, free_paths: Option<FreePathTally>) -> StatisticsRecord {
+    pub fn record(
+        &self,
+        index: u32,
+        snapshot: &Snapshot,
+        free_paths: Option<FreePathTally>,
+    ) -> StatisticsRecord {
         let reading = snapshot.progress.on(self.clock);
         let sample = match snapshot.particles() {
             Some(p) if self.samples(index, reading) => Some(Box::new(sample(p, &self.settings))),
@@ -344,7 +410,12 @@ pub fn centre_slabs(slabs: usize) -> Vec<usize> {
 }
 
 /// Mean of `value` over the slabs in `which` that have one (NaN when none has).
-fn mean_over<T>(rows: &[T], which: &[usize], slab: impl Fn(&T) -> usize, value: impl Fn(&T) -> f64) -> f64 {
+fn mean_over<T>(
+    rows: &[T],
+    which: &[usize],
+    slab: impl Fn(&T) -> usize,
+    value: impl Fn(&T) -> f64,
+) -> f64 {
     let v: Vec<f64> = rows
         .iter()
         .filter(|r| which.contains(&slab(r)))
@@ -380,7 +451,10 @@ pub fn analyse(
     let in_window: Vec<&WindowRecord> = match (plan.settings.window, records.last()) {
         (Some(w), Some(last)) => {
             let end = reading(last.structure);
-            records.iter().filter(|r| reading(r.structure) >= end - w).collect()
+            records
+                .iter()
+                .filter(|r| reading(r.structure) >= end - w)
+                .collect()
         }
         _ => records
             .iter()
@@ -408,7 +482,11 @@ pub fn analyse(
     let structure = last.structure;
     let [l, w, h] = structure.box_extent;
     let g = structure.gravity;
-    let (velocity_scale, spin_scale) = if g > 0.0 { (g.sqrt(), g.sqrt()) } else { (1.0, 1.0) };
+    let (velocity_scale, spin_scale) = if g > 0.0 {
+        (g.sqrt(), g.sqrt())
+    } else {
+        (1.0, 1.0)
+    };
     let samples: Vec<&Sample> = in_window
         .iter()
         .filter_map(|r| r.statistics.sample.as_deref())
@@ -428,8 +506,18 @@ pub fn analyse(
         s.free_paths = fp.paths;
         s.mean_free_path = fp.mean;
         s.wall_path_fraction = fp.wall_fraction;
-        s.knudsen_centre = mean_over(&fp.profile, &centre_slabs(slabs), |r| r.slab as usize, |r| r.knudsen);
-        s.knudsen_wall = mean_over(&fp.profile, &[0, slabs - 1], |r| r.slab as usize, |r| r.knudsen);
+        s.knudsen_centre = mean_over(
+            &fp.profile,
+            &centre_slabs(slabs),
+            |r| r.slab as usize,
+            |r| r.knudsen,
+        );
+        s.knudsen_wall = mean_over(
+            &fp.profile,
+            &[0, slabs - 1],
+            |r| r.slab as usize,
+            |r| r.knudsen,
+        );
         out.free_paths = fp.distribution;
         out.knudsen = fp.profile;
     }
@@ -438,15 +526,27 @@ pub fn analyse(
     }
     let vdfs: Vec<&vdf::VdfSample> = samples.iter().map(|x| &x.vdf).collect();
     (out.vdf, out.vdf_moments) = vdf::analyse(&vdfs, slabs, &y_of, velocity_scale, spin_scale);
-    let orientations: Vec<&orientation::OrientationSample> = samples.iter().map(|x| &x.orientation).collect();
+    let orientations: Vec<&orientation::OrientationSample> =
+        samples.iter().map(|x| &x.orientation).collect();
     out.orientation = orientation::analyse(&orientations, slabs, &y_of);
     let centre = centre_slabs(slabs);
-    out.summary.lambda_centre = mean_over(&out.orientation, &centre, |r| r.slab as usize, |r| r.lambda);
+    out.summary.lambda_centre =
+        mean_over(&out.orientation, &centre, |r| r.slab as usize, |r| r.lambda);
     out.summary.lambda_centre_error = {
-        let e = mean_over(&out.orientation, &centre, |r| r.slab as usize, |r| r.error * r.error);
+        let e = mean_over(
+            &out.orientation,
+            &centre,
+            |r| r.slab as usize,
+            |r| r.error * r.error,
+        );
         (e / centre.len() as f64).sqrt()
     };
-    out.summary.lambda_mean = mean_over(&out.orientation, &(0..slabs).collect::<Vec<_>>(), |r| r.slab as usize, |r| r.lambda);
+    out.summary.lambda_mean = mean_over(
+        &out.orientation,
+        &(0..slabs).collect::<Vec<_>>(),
+        |r| r.slab as usize,
+        |r| r.lambda,
+    );
     let pair_samples: Vec<&pairs::PairSample> = samples.iter().map(|x| &x.pairs).collect();
     let pair_box = pair_correlation::PairBox {
         extent: [l, w, h],
@@ -455,14 +555,20 @@ pub fn analyse(
     };
     out.pair_correlation = pair_correlation::analyse(&pair_samples, slabs, pair_box, &y_of);
     let dr = plan.settings.dr;
-    let overall: Vec<&pair_correlation::PairCorrelationRow> =
-        out.pair_correlation.iter().filter(|r| r.slab.is_none()).collect();
+    let overall: Vec<&pair_correlation::PairCorrelationRow> = out
+        .pair_correlation
+        .iter()
+        .filter(|r| r.slab.is_none())
+        .collect();
     out.summary.contact_value = pair_correlation::contact_value(&overall, dr);
     let centres: Vec<f64> = centre
         .iter()
         .map(|&c| {
-            let rows: Vec<&pair_correlation::PairCorrelationRow> =
-                out.pair_correlation.iter().filter(|r| r.slab == Some(c as u32)).collect();
+            let rows: Vec<&pair_correlation::PairCorrelationRow> = out
+                .pair_correlation
+                .iter()
+                .filter(|r| r.slab == Some(c as u32))
+                .collect();
             pair_correlation::contact_value(&rows, dr)
         })
         .collect();

@@ -47,6 +47,7 @@ impl OrientationSample {
 
 /// Lambda of one slab over the window.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(into = "(u32, f64, f64, f64, u64)", from = "(u32, f64, f64, f64, u64)")]
 pub struct OrientationRow {
     pub slab: u32,
     pub y: f64,
@@ -90,3 +91,11 @@ pub fn analyse(
         })
         .collect()
 }
+
+row_as_tuple!(OrientationRow {
+    slab: u32,
+    y: f64,
+    lambda: f64,
+    error: f64,
+    samples: u64
+});

@@ -28,6 +28,10 @@ use serde::{Deserialize, Serialize};
 
 /// One point of g(r).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    into = "(Option<u32>, f64, f64, f64, u64)",
+    from = "(Option<u32>, f64, f64, f64, u64)"
+)]
 pub struct PairCorrelationRow {
     /// slab of the test particle; None: all slabs
     pub slab: Option<u32>,
@@ -167,8 +171,7 @@ pub fn analyse(
         let y = (f as f64 + 0.5) * dy;
         for k in 0..t.r_bins {
             let r1 = k as f64 * t.dr;
-            reference[slab * t.r_bins + k] +=
-                others * t.fine[f] as f64 * shell(y, r1, r1 + t.dr);
+            reference[slab * t.r_bins + k] += others * t.fine[f] as f64 * shell(y, r1, r1 + t.dr);
         }
     }
     let mut rows = Vec::new();
@@ -258,3 +261,5 @@ mod tests {
         assert!((contact_value(&refs, 0.01) - 2.0).abs() < 1e-9);
     }
 }
+
+row_as_tuple!(PairCorrelationRow { slab: Option<u32>, y: f64, r: f64, g: f64, pairs: u64 });

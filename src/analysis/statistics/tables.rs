@@ -22,13 +22,31 @@ pub const TABLES: &[TableDef] = &[
         columns: &[
             column("vdf_bin", I64, "slab across the channel (0 at y = 0)"),
             column("vdf_y", F64, "slab centre, d"),
-            column("component", Str, "C_x, C_y, C_z, Omega_x, Omega_y or Omega_z"),
-            column("x", F64, "fluctuation over the slab's standard deviation (bin centre)"),
-            column("p", F64, "probability density scaled so that P(0) = 1 (thesis); Gaussian: exp(-x^2/2)"),
+            column(
+                "component",
+                Str,
+                "C_x, C_y, C_z, Omega_x, Omega_y or Omega_z",
+            ),
+            column(
+                "x",
+                F64,
+                "fluctuation over the slab's standard deviation (bin centre)",
+            ),
+            column(
+                "p",
+                F64,
+                "probability density scaled so that P(0) = 1 (thesis); Gaussian: exp(-x^2/2)",
+            ),
             column("density", F64, "probability density of x"),
             column("gaussian", F64, "the reference exp(-x^2/2)"),
         ],
-        units: &[("vdf_y", "d"), ("x", "1"), ("p", "1"), ("density", "1"), ("gaussian", "1")],
+        units: &[
+            ("vdf_y", "d"),
+            ("x", "1"),
+            ("p", "1"),
+            ("density", "1"),
+            ("gaussian", "1"),
+        ],
     },
     TableDef {
         name: "vdf_moments",
@@ -36,14 +54,31 @@ pub const TABLES: &[TableDef] = &[
             column("moment_bin", I64, "slab across the channel"),
             column("moment_y", F64, "slab centre, d"),
             column("moment_component", Str, "C_x .. Omega_z"),
-            column("moment_samples", I64, "fluctuations counted over the window"),
-            column("sigma", F64, "standard deviation: sqrt(g d) for C, sqrt(g/d) for Omega"),
+            column(
+                "moment_samples",
+                I64,
+                "fluctuations counted over the window",
+            ),
+            column(
+                "sigma",
+                F64,
+                "standard deviation: sqrt(g d) for C, sqrt(g/d) for Omega",
+            ),
             column("skewness", F64, "m3 / m2^(3/2) (new, not in the thesis)"),
             column("skewness_error", F64, "batch-means standard error"),
-            column("kurtosis", F64, "m4 / m2^2, 3 for a Gaussian (new, not in the thesis)"),
+            column(
+                "kurtosis",
+                F64,
+                "m4 / m2^2, 3 for a Gaussian (new, not in the thesis)",
+            ),
             column("kurtosis_error", F64, "batch-means standard error"),
         ],
-        units: &[("moment_y", "d"), ("sigma", "sqrt(g d) (C), sqrt(g/d) (Omega)"), ("skewness", "1"), ("kurtosis", "1")],
+        units: &[
+            ("moment_y", "d"),
+            ("sigma", "sqrt(g d) (C), sqrt(g/d) (Omega)"),
+            ("skewness", "1"),
+            ("kurtosis", "1"),
+        ],
     },
     TableDef {
         name: "pair_correlation",
@@ -51,7 +86,11 @@ pub const TABLES: &[TableDef] = &[
             column("g_bin", I64, "slab of the test particle; null: all slabs"),
             column("g_y", F64, "slab centre, d; null for all slabs"),
             column("r", F64, "pair distance (bin centre), d"),
-            column("g", F64, "g(r): pairs over those of an uncorrelated gas with the same density profile"),
+            column(
+                "g",
+                F64,
+                "g(r): pairs over those of an uncorrelated gas with the same density profile",
+            ),
             column("g_pairs", I64, "ordered pairs counted"),
         ],
         units: &[("g_y", "d"), ("r", "d"), ("g", "1")],
@@ -61,7 +100,11 @@ pub const TABLES: &[TableDef] = &[
         columns: &[
             column("lambda_bin", I64, "slab across the channel"),
             column("lambda_y", F64, "slab centre, d"),
-            column("lambda", F64, "Lambda = <cos^2 Psi>, 1/3 for a molecular gas"),
+            column(
+                "lambda",
+                F64,
+                "Lambda = <cos^2 Psi>, 1/3 for a molecular gas",
+            ),
             column("lambda_error", F64, "batch-means standard error"),
             column("lambda_samples", I64, "particles counted over the window"),
         ],
@@ -74,7 +117,11 @@ pub const TABLES: &[TableDef] = &[
             column("c_y", F64, "slab centre, d"),
             column("c_pair", Str, "xx, yy, zz, xy, xz or yz"),
             column("c_r", F64, "pair distance (bin centre), d"),
-            column("c", F64, "C_ab(r): mean symmetrised product over sqrt(<C_a^2><C_b^2>); 0 uncorrelated"),
+            column(
+                "c",
+                F64,
+                "C_ab(r): mean symmetrised product over sqrt(<C_a^2><C_b^2>); 0 uncorrelated",
+            ),
             column("c_pairs", I64, "ordered pairs counted"),
         ],
         units: &[("c_y", "d"), ("c_r", "d"), ("c", "1")],
@@ -82,7 +129,11 @@ pub const TABLES: &[TableDef] = &[
     TableDef {
         name: "free_paths",
         columns: &[
-            column("l_bin", I64, "slab of the paths' midpoints; null: all slabs"),
+            column(
+                "l_bin",
+                I64,
+                "slab of the paths' midpoints; null: all slabs",
+            ),
             column("l_y", F64, "slab centre, d; null for all slabs"),
             column("l", F64, "free path (bin centre), d"),
             column("p_l", F64, "probability density P(l), per d"),
@@ -166,7 +217,15 @@ pub fn rows(s: &Statistics, table: &str) -> Vec<Vec<Cell>> {
         "pair_correlation" => s
             .pair_correlation
             .iter()
-            .map(|r| vec![slab(r.slab), r.y.into(), r.r.into(), r.g.into(), r.pairs.into()])
+            .map(|r| {
+                vec![
+                    slab(r.slab),
+                    r.y.into(),
+                    r.r.into(),
+                    r.g.into(),
+                    r.pairs.into(),
+                ]
+            })
             .collect(),
         "orientation" => s
             .orientation
@@ -209,7 +268,10 @@ pub fn rows(s: &Statistics, table: &str) -> Vec<Vec<Cell>> {
 pub fn profile_rows(s: &Statistics) -> Vec<ProfileRow> {
     let mut rows = Vec::new();
     for (quantity, pick) in [
-        ("mean_free_path", (|k: &super::free_path::KnudsenRow| k.mean_free_path) as fn(&_) -> f64),
+        (
+            "mean_free_path",
+            (|k: &super::free_path::KnudsenRow| k.mean_free_path) as fn(&_) -> f64,
+        ),
         ("Kn", |k| k.knudsen),
     ] {
         rows.extend(s.knudsen.iter().map(|k| ProfileRow {

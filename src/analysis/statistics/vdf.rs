@@ -18,7 +18,8 @@
 //!   covers) and summed; density = counts / (n dx) (it integrates to the fraction inside
 //!   +-x_max) and p = density / density(0), where density(0) is the value of the bin centred on
 //!   0: "the vertical axis is scaled such that P(0) = 1" (thesis). The Gaussian reference is
-//!   then exp(-x^2 / 2). An asymmetric VDF need not peak at 1.
+//!   then exp(-x^2 / 2). An asymmetric VDF need not peak at 1. Rows run from the first to the
+//!   last bin holding counts.
 
 use super::blocks::batch_error;
 use super::fluctuations::Fluctuation;
@@ -65,14 +66,8 @@ impl VdfSample {
             histogram: vec![0; series * width],
             outside: vec![0; series],
         };
-        let value = |p: &Fluctuation, a: usize| {
-            p.unbiased
-                * if a < 3 {
-                    p.c[a]
-                } else {
-                    p.omega[a - 3]
-                }
-        };
+        let value =
+            |p: &Fluctuation, a: usize| p.unbiased * if a < 3 { p.c[a] } else { p.omega[a - 3] };
         for p in f.iter().filter(|p| p.defined()) {
             for a in 0..components {
                 let u = value(p, a);
@@ -111,6 +106,10 @@ impl VdfSample {
 
 /// One point of a VDF.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    into = "(u32, f64, String, f64, f64, f64)",
+    from = "(u32, f64, String, f64, f64, f64)"
+)]
 pub struct VdfRow {
     pub slab: u32,
     /// slab centre, d
@@ -127,6 +126,10 @@ pub struct VdfRow {
 
 /// The moments of one slab and component.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    into = "(u32, f64, String, u64, f64, f64, f64, f64, f64)",
+    from = "(u32, f64, String, u64, f64, f64, f64, f64, f64)"
+)]
 pub struct MomentRow {
     pub slab: u32,
     pub y: f64,
@@ -248,7 +251,10 @@ pub fn analyse(
             }
             let density: Vec<f64> = h.iter().map(|c| c / (m.0 as f64 * dx)).collect();
             let zero = density[half];
-            for (j, d) in density.iter().enumerate() {
+            // the rows span the bins from the first to the last that holds counts
+            let first = h.iter().position(|c| *c > 0.0).unwrap_or(0);
+            let last = h.iter().rposition(|c| *c > 0.0).unwrap_or(0);
+            for (j, d) in density.iter().enumerate().take(last + 1).skip(first) {
                 rows.push(VdfRow {
                     slab: slab as u32,
                     y: y_of(slab),
@@ -279,3 +285,24 @@ mod tests {
         assert!((t[4] - 0.5).abs() < 1e-12, "{t:?}");
     }
 }
+
+row_as_tuple!(VdfRow {
+    slab: u32,
+    y: f64,
+    component: String,
+    x: f64,
+    p: f64,
+    density: f64
+});
+
+row_as_tuple!(MomentRow {
+    slab: u32,
+    y: f64,
+    component: String,
+    samples: u64,
+    sigma: f64,
+    skewness: f64,
+    skewness_error: f64,
+    kurtosis: f64,
+    kurtosis_error: f64
+});

@@ -23,6 +23,10 @@ use serde::{Deserialize, Serialize};
 
 /// One point of a velocity correlation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    into = "(u32, f64, String, f64, f64, u64)",
+    from = "(u32, f64, String, f64, f64, u64)"
+)]
 pub struct VelocityCorrelationRow {
     pub slab: u32,
     pub y: f64,
@@ -60,7 +64,12 @@ pub fn analyse(
         if n == 0 {
             continue;
         }
-        let second = |k: usize| same.iter().map(|s| s.self_products[slab * 6 + k]).sum::<f64>() / n as f64;
+        let second = |k: usize| {
+            same.iter()
+                .map(|s| s.self_products[slab * 6 + k])
+                .sum::<f64>()
+                / n as f64
+        };
         let variance = [second(0), second(1), second(2)];
         for (k, name) in PAIRS.iter().enumerate() {
             let (a, b) = match k {
@@ -96,3 +105,12 @@ pub fn analyse(
     }
     rows
 }
+
+row_as_tuple!(VelocityCorrelationRow {
+    slab: u32,
+    y: f64,
+    pair: String,
+    r: f64,
+    c: f64,
+    pairs: u64
+});

@@ -58,8 +58,7 @@ pub fn wall_values(profiles: &[ProfileRow]) -> WallValues {
     let (_, gradient_u_x) = folded(profiles, "u_x", 1.0);
     let (slip_rotational, gradient_omega_z) = folded(profiles, "omega_z", -1.0);
     let (temperature, gradient_temperature) = folded(profiles, "T", 1.0);
-    let (rotational_temperature, gradient_rotational_temperature) =
-        folded(profiles, "theta", 1.0);
+    let (rotational_temperature, gradient_rotational_temperature) = folded(profiles, "theta", 1.0);
     WallValues {
         slip_rotational,
         temperature,
@@ -97,7 +96,11 @@ mod tests {
         rows.extend(profile("u_x", |y| 1.0 + y * (10.0 - y)));
         let w = wall_values(&rows);
         assert!((w.slip_rotational - 4.5).abs() < 1e-12);
-        assert!((w.gradient_omega_z + 1.0).abs() < 1e-12, "{}", w.gradient_omega_z);
+        assert!(
+            (w.gradient_omega_z + 1.0).abs() < 1e-12,
+            "{}",
+            w.gradient_omega_z
+        );
         assert!((w.gradient_u_x - 8.0).abs() < 1e-12, "{}", w.gradient_u_x);
         assert!(w.temperature.is_nan());
     }

@@ -28,6 +28,8 @@ pub struct Column {
     name: String,
     kind: ColumnKind,
     values: Values,
+    /// the unit, written into the field's metadata as `unit`
+    unit: Option<&'static str>,
 }
 
 impl Column {
@@ -36,7 +38,14 @@ impl Column {
             name: name.into(),
             kind,
             values: Values::new(kind),
+            unit: None,
         }
+    }
+
+    /// The column with its unit in the field metadata (`unit`).
+    pub fn with_unit(mut self, unit: Option<&'static str>) -> Self {
+        self.unit = unit;
+        self
     }
 
     /// A column of `kind` with these cells.
@@ -230,9 +239,19 @@ pub fn write(
         "{}: columns of unequal length",
         path.display()
     );
+    let with_unit = |field: Field, unit: Option<&'static str>| match unit {
+        Some(u) => field.with_metadata([("unit".into(), u.into())].into_iter().collect()),
+        None => field,
+    };
+    let units: Vec<Option<&'static str>> = columns.iter().map(|c| c.unit).collect();
     let schema: ArrowSchema = columns
         .iter()
-        .map(|c| Field::new(c.name.as_str().into(), arrow_type(c.kind), true))
+        .map(|c| {
+            with_unit(
+                Field::new(c.name.as_str().into(), arrow_type(c.kind), true),
+                c.unit,
+            )
+        })
         .collect();
     anyhow::ensure!(
         schema.len() == columns.len(),
@@ -267,7 +286,8 @@ pub fn write(
     }
     let read_as: ArrowSchema = schema
         .iter_values()
-        .map(|f| Field::new(f.name.clone(), read_type(&f.dtype), true))
+        .zip(&units)
+        .map(|(f, u)| with_unit(Field::new(f.name.clone(), read_type(&f.dtype), true), *u))
         .collect();
     let mut key_values = vec![schema_to_metadata_key(&read_as)];
     key_values.extend(metadata.iter().map(|(key, value)| KeyValue {
