@@ -87,6 +87,9 @@ for state in ["none", "some", "all"]:
                 name = ".".join((f.name,) + leaf)
                 assert not pa.types.is_unsigned_integer(t), f"{where}: {name} is {t}"
                 assert "view" not in str(t), f"{where}: {name} is {t}"
+        for column, unit in spec.get("units", {}).get(table, {}).items():
+            meta = schema.field(column).metadata or {}
+            assert meta.get(b"unit", b"").decode() == unit, f"{where}: {column} unit {meta}"
         provenance = pq.ParquetFile(path).metadata.metadata
         assert provenance[b"granflow.engine"].decode() == engine, where
         # DuckDB: the types the declaration gives, and arithmetic on every integer
