@@ -21,7 +21,9 @@
 //! the plane of the periodic directions over which r may range, not as a projection).
 //!
 //! The contact value g(d+) is the value at r = d of a least-squares parabola through the
-//! first bins from d on (those up to 1.1 d, at least 3; a straight line when there are 3).
+//! bins from d to 1.2 d (at least 4; a straight line through 3 when there are no more): wide
+//! enough that the bins' noise does not swing the extrapolation, narrow enough that a parabola
+//! follows g (at phi = 0.3 the cubic term of g's decay changes g(d+) by < 0.5 %).
 
 use super::pairs::PairSample;
 use serde::{Deserialize, Serialize};
@@ -206,10 +208,10 @@ pub fn analyse(
 }
 
 /// g(d+) of rows of one series (in increasing r, bins of equal width): the parabola (or, with
-/// 3 points, the line) through the bins from r = d to 1.1 d (at least 3) at r = d; NaN without
-/// enough bins.
+/// 3 points, the line) through the bins from r = d to 1.2 d (at least 4) at r = d; NaN without
+/// 3 bins.
 pub fn contact_value(rows: &[&PairCorrelationRow], dr: f64) -> f64 {
-    let want = ((0.1 / dr).round() as usize).max(3);
+    let want = ((0.2 / dr).round() as usize).max(4);
     let points: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| r.r - 0.5 * dr >= 1.0 - 1e-9 && r.g.is_finite())
