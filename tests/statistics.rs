@@ -88,7 +88,10 @@ fn elastic_hard_spheres_in_equilibrium_meet_kinetic_theory() {
         };
         // mean free time 1 / omega: 0.7 (phi = 0.1) and 0.11 (phi = 0.3) at kT = 1; snapshots a
         // few collision times apart
-        let tau = 1.0 / (4.0 * phi / (std::f64::consts::PI / 6.0) * carnahan_starling(phi) * std::f64::consts::PI.sqrt());
+        let tau = 1.0
+            / (4.0 * phi / (std::f64::consts::PI / 6.0)
+                * carnahan_starling(phi)
+                * std::f64::consts::PI.sqrt());
         let (s, _) = run_statistics(&mut engine, settings, 20.0 * tau, 3.0 * tau, 250);
         let where_ = format!("phi = {phi}");
         // VDFs: Gaussian
@@ -124,7 +127,10 @@ fn elastic_hard_spheres_in_equilibrium_meet_kinetic_theory() {
                 .collect();
             let dx = rows[1].x - rows[0].x;
             let variance: f64 = rows.iter().map(|r| r.x * r.x * r.density * dx).sum();
-            assert!((variance - 1.0).abs() < 0.02, "{where_}: slab {slab} {component}: <x^2> = {variance}");
+            assert!(
+                (variance - 1.0).abs() < 0.02,
+                "{where_}: slab {slab} {component}: <x^2> = {variance}"
+            );
         }
         let worst = s
             .vdf
@@ -153,7 +159,10 @@ fn elastic_hard_spheres_in_equilibrium_meet_kinetic_theory() {
             .collect();
         let far_mean = far.iter().sum::<f64>() / far.len() as f64;
         eprintln!("{where_}: g over 3 < r < 4: {far_mean:.4}");
-        assert!((far_mean - 1.0).abs() < 0.01, "{where_}: g far = {far_mean}");
+        assert!(
+            (far_mean - 1.0).abs() < 0.01,
+            "{where_}: g far = {far_mean}"
+        );
         assert!(
             s.pair_correlation
                 .iter()
@@ -177,9 +186,15 @@ fn elastic_hard_spheres_in_equilibrium_meet_kinetic_theory() {
         );
         // Lambda: 1/3
         for r in &s.orientation {
-            eprintln!("{where_}: Lambda slab {} = {:.4} +- {:.4}", r.slab, r.lambda, r.error);
+            eprintln!(
+                "{where_}: Lambda slab {} = {:.4} +- {:.4}",
+                r.slab, r.lambda, r.error
+            );
             assert!(r.error > 0.0 && r.error < 0.01, "{where_}: {r:?}");
-            assert!((r.lambda - 1.0 / 3.0).abs() < 4.0 * r.error, "{where_}: {r:?}");
+            assert!(
+                (r.lambda - 1.0 / 3.0).abs() < 4.0 * r.error,
+                "{where_}: {r:?}"
+            );
         }
         // mean free path
         let n = phi / (std::f64::consts::PI / 6.0);
@@ -312,7 +327,11 @@ fn pair_counts_match_a_lattice_and_brute_force() {
         ..StatisticsSettings::default()
     };
     let s = analyse_snapshots(std::slice::from_ref(&snap), settings);
-    let overall: Vec<_> = s.pair_correlation.iter().filter(|r| r.slab.is_none()).collect();
+    let overall: Vec<_> = s
+        .pair_correlation
+        .iter()
+        .filter(|r| r.slab.is_none())
+        .collect();
     let shells: Vec<(f64, u64)> = overall
         .iter()
         .filter(|r| r.pairs > 0)
@@ -321,7 +340,10 @@ fn pair_counts_match_a_lattice_and_brute_force() {
     let expect = [(a, 6), (a * 2f64.sqrt(), 12), (a * 3f64.sqrt(), 8)];
     assert_eq!(shells.len(), 3, "{shells:?}");
     for ((r, count), (want_r, per)) in shells.iter().zip(expect) {
-        assert!((r - want_r).abs() <= 0.01, "shell at {r}, expected {want_r}");
+        assert!(
+            (r - want_r).abs() <= 0.01,
+            "shell at {r}, expected {want_r}"
+        );
         assert_eq!(*count, per * n as u64, "shell at {want_r}");
     }
     // each slab sees the same neighbours
@@ -414,11 +436,13 @@ fn an_ideal_gas_has_g_one_in_every_slab() {
                 .iter()
                 .filter(|r| r.slab == slab && r.r > 0.5)
                 .collect();
-            let (pairs, weighted): (u64, f64) = rows
-                .iter()
-                .fold((0, 0.0), |(p, w), r| (p + r.pairs, w + r.pairs as f64 / r.g));
+            let (pairs, weighted): (u64, f64) = rows.iter().fold((0, 0.0), |(p, w), r| {
+                (p + r.pairs, w + r.pairs as f64 / r.g)
+            });
             let mean = pairs as f64 / weighted;
-            eprintln!("walls {walls}, slab {slab:?}: g over 0.5 < r < 3 = {mean:.4} ({pairs} pairs)");
+            eprintln!(
+                "walls {walls}, slab {slab:?}: g over 0.5 < r < 3 = {mean:.4} ({pairs} pairs)"
+            );
             assert!(
                 (mean - 1.0).abs() < 4.0 / (pairs as f64).sqrt() + 0.003,
                 "walls {walls}, slab {slab:?}: g = {mean}"
@@ -479,8 +503,20 @@ fn velocity_correlations_of_dimers_are_the_built_in_ones() {
             ..StatisticsSettings::default()
         },
     );
-    let expected = [("xx", 0.6), ("yy", -0.3), ("zz", 0.0), ("xy", 0.1), ("xz", 0.0), ("yz", 0.0)];
-    assert_eq!(s.velocity_correlation.len(), 6, "{:?}", s.velocity_correlation);
+    let expected = [
+        ("xx", 0.6),
+        ("yy", -0.3),
+        ("zz", 0.0),
+        ("xy", 0.1),
+        ("xz", 0.0),
+        ("yz", 0.0),
+    ];
+    assert_eq!(
+        s.velocity_correlation.len(),
+        6,
+        "{:?}",
+        s.velocity_correlation
+    );
     for (pair, want) in expected {
         let row = s
             .velocity_correlation
@@ -488,7 +524,10 @@ fn velocity_correlations_of_dimers_are_the_built_in_ones() {
             .find(|r| r.pair == pair)
             .unwrap();
         let se = 1.0 / (row.pairs as f64).sqrt();
-        eprintln!("C_{pair}({:.2}) = {:.4} (built in {want}, +- {se:.4})", row.r, row.c);
+        eprintln!(
+            "C_{pair}({:.2}) = {:.4} (built in {want}, +- {se:.4})",
+            row.r, row.c
+        );
         assert!((row.r - 1.5).abs() < 0.11, "{row:?}");
         assert!((row.c - want).abs() < 5.0 * se + 0.002, "{row:?} vs {want}");
     }
@@ -511,7 +550,11 @@ fn lambda_of_known_angles() {
         let v = [gaussian(&mut rng), gaussian(&mut rng), gaussian(&mut rng)];
         let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         let e1 = v.map(|x| x / n);
-        let t = if e1[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+        let t = if e1[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
         let d = t[0] * e1[0] + t[1] * e1[1] + t[2] * e1[2];
         let e2 = {
             let u = [0, 1, 2].map(|a| t[a] - d * e1[a]);
@@ -586,8 +629,15 @@ fn moments_and_histograms_of_known_distributions() {
         },
     );
     for (component, skew, kurt) in [("C_x", 0.0, 1.8), ("C_y", 2.0, 9.0), ("C_z", 0.0, 3.0)] {
-        let m = s.vdf_moments.iter().find(|m| m.component == component).unwrap();
-        eprintln!("{component}: skewness {:.3} +- {:.3}, kurtosis {:.3} +- {:.3}", m.skewness, m.skewness_error, m.kurtosis, m.kurtosis_error);
+        let m = s
+            .vdf_moments
+            .iter()
+            .find(|m| m.component == component)
+            .unwrap();
+        eprintln!(
+            "{component}: skewness {:.3} +- {:.3}, kurtosis {:.3} +- {:.3}",
+            m.skewness, m.skewness_error, m.kurtosis, m.kurtosis_error
+        );
         assert!((m.skewness - skew).abs() < 4.0 * m.skewness_error, "{m:?}");
         assert!((m.kurtosis - kurt).abs() < 4.0 * m.kurtosis_error, "{m:?}");
     }
@@ -647,7 +697,10 @@ fn homogeneous_cooling_has_the_sonine_a2() {
         let se = statistics::blocks::batch_error(&refs, mean);
         let theory = a2_van_noije_ernst(e);
         eprintln!("e = {e}: a2 = {measured:.5} +- {se:.5}, van Noije & Ernst {theory:.5}");
-        assert!(se < 0.125 * theory.abs(), "e = {e}: error {se} too large to test");
+        assert!(
+            se < 0.125 * theory.abs(),
+            "e = {e}: error {se} too large to test"
+        );
         assert!(
             (measured - theory).abs() < 0.25 * theory.abs(),
             "e = {e}: a2 = {measured} +- {se} vs {theory}"

@@ -34,12 +34,26 @@ fn a_statistics_sweep_resumes_after_kill_9_to_the_same_results_and_draws() {
     }
     let f = file.to_str().unwrap();
     let reference = dir.join("reference");
-    granflow_ok(&["run", f, "--results", reference.to_str().unwrap(), "--threads", "2"]);
+    granflow_ok(&[
+        "run",
+        f,
+        "--results",
+        reference.to_str().unwrap(),
+        "--threads",
+        "2",
+    ]);
     let results = dir.join("results");
-    let args: Vec<String> = ["run", f, "--results", results.to_str().unwrap(), "--threads", "1"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+    let args: Vec<String> = [
+        "run",
+        f,
+        "--results",
+        results.to_str().unwrap(),
+        "--threads",
+        "1",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
     let kills = kill_until_done(&sweep, &results, &args, Duration::from_secs(300));
     assert!(kills >= 2, "only {kills} kills");
     let (a_dirs, b_dirs) = (sweep.results_dir(&reference), sweep.results_dir(&results));
@@ -67,7 +81,10 @@ fn a_statistics_sweep_resumes_after_kill_9_to_the_same_results_and_draws() {
             "velocity_correlation",
             "knudsen",
         ] {
-            let png = a_dirs.job_dir(&job.id).join("figures").join(format!("{name}.png"));
+            let png = a_dirs
+                .job_dir(&job.id)
+                .join("figures")
+                .join(format!("{name}.png"));
             assert!(png.is_file(), "{}", png.display());
         }
     }
@@ -101,7 +118,14 @@ fn a_statistics_sweep_resumes_after_kill_9_to_the_same_results_and_draws() {
 fn a_sweep_without_statistics_keeps_its_ids() {
     let dir = scratch("statistics-plain");
     let file = dir.join("plain.ron");
-    std::fs::write(&file, SWEEP.replace(",\n        statistics: (bins: 5, window: 1000, r_max: 3.0)", "")).unwrap();
+    std::fs::write(
+        &file,
+        SWEEP.replace(
+            ",\n        statistics: (bins: 5, window: 1000, r_max: 3.0)",
+            "",
+        ),
+    )
+    .unwrap();
     let plain = load_sweep(&file, &[]).unwrap();
     for job in &plain.plan {
         let canonical = job.params.canonical();

@@ -81,7 +81,10 @@ fn check_tables(
     name: &str,
     label: &str,
     sweep: &str,
-    schema: &[(String, Vec<(String, granflow::analysis::columns::ColumnKind)>)],
+    schema: &[(
+        String,
+        Vec<(String, granflow::analysis::columns::ColumnKind)>,
+    )],
     units: serde_json::Value,
 ) {
     let names: Vec<String> = schema.iter().map(|(t, _)| t.clone()).collect();

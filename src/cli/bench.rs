@@ -65,8 +65,8 @@ pub struct BenchArgs {
     /// statistics), as a job's snapshot cadence
     #[arg(long, default_value_t = 0)]
     pub snapshots: u32,
-    /// with --snapshots: the statistics (default settings, 25 slabs) at every snapshot, and
-    /// free paths tallied throughout
+    /// with --snapshots: the statistics (those of sweeps/thesis-ch4-dense.ron: 25 slabs,
+    /// r_max = 8 d) at every snapshot, and free paths tallied throughout
     #[arg(long)]
     pub statistics: bool,
 }
@@ -115,6 +115,10 @@ pub struct BenchResult {
     /// DSMC only: simulator moves per second
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moves_per_s: Option<f64>,
+    /// EDMD with --snapshots: wall seconds per snapshot spent on its analysis record (the
+    /// statistics included with --statistics), inside the timed stretch
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub record_seconds: Option<f64>,
 }
 
 /// A number written as null (NaN in JSON) read back as NaN.
@@ -182,6 +186,7 @@ fn measure_dsmc(w: &DsmcWorkload, moves: f64) -> anyhow::Result<BenchResult> {
         bytes_per_particle: bytes_per_particle(baseline, n, 64.0),
         site_updates_per_s: None,
         moves_per_s: Some(moves_per_s),
+        record_seconds: None,
     })
 }
 
@@ -240,6 +245,7 @@ fn measure_lga(w: &LgaWorkload, site_updates: f64) -> anyhow::Result<BenchResult
         ),
         site_updates_per_s: Some(updates),
         moves_per_s: None,
+        record_seconds: None,
     })
 }
 
@@ -369,17 +375,20 @@ fn measure(w: &Workload, search: SearchPolicy, args: &BenchArgs) -> anyhow::Resu
     }
     let started = Instant::now();
     let stops = args.snapshots.max(1);
+    let mut recording = 0.0;
     for k in 1..=stops {
         let at = w.warmup + measured_cpp * k as f64 / stops as f64;
         engine.advance(StopAt::CollisionsPerParticle(at))?;
         if args.snapshots > 0 {
             let snap = engine.snapshot();
             let paths = engine.take_free_paths();
+            let t = Instant::now();
             std::hint::black_box(
                 analyser
                     .record_with(&snap, k, paths)
                     .map_err(anyhow::Error::msg)?,
             );
+            recording += t.elapsed().as_secs_f64();
         }
     }
     let secs = started.elapsed().as_secs_f64();
@@ -398,6 +407,7 @@ fn measure(w: &Workload, search: SearchPolicy, args: &BenchArgs) -> anyhow::Resu
         ),
         site_updates_per_s: None,
         moves_per_s: None,
+        record_seconds: (args.snapshots > 0).then(|| recording / args.snapshots as f64),
     })
 }
 
@@ -409,8 +419,13 @@ fn snapshot_analyser(args: &BenchArgs) -> anyhow::Result<crate::analysis::Analys
         .analyser(&kind.default_settings())
         .map_err(anyhow::Error::msg)?;
     Ok(if args.statistics {
+        // the settings of sweeps/thesis-ch4-dense.ron: 25 slabs, r_max = 8 d
+        let settings = crate::analysis::statistics::StatisticsSettings {
+            r_max: 8.0,
+            ..Default::default()
+        };
         structure.with_statistics(crate::analysis::statistics::StatisticsPlan::every_snapshot(
-            crate::analysis::statistics::StatisticsSettings::default(),
+            settings,
         ))
     } else {
         structure
@@ -544,8 +559,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             } else {
                 name
             };
+            let record = r
+                .record_seconds
+                .map(|s| format!(", {:.1} ms per snapshot record", 1e3 * s))
+                .unwrap_or_default();
             println!(
-                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}",
+                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}{record}",
                 r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
             );
         }

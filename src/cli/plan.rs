@@ -96,7 +96,10 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
              (of {}; each costs one pass over the pairs closer than r_max), free paths tallied \
              throughout",
             st.bins,
-            st.window.map_or("as the structure analysis' (steady window, else final third)".to_string(), |w| format!("the last {w} {}", run.clock().key())),
+            st.window.map_or(
+                "as the structure analysis' (steady window, else final third)".to_string(),
+                |w| format!("the last {w} {}", run.clock().key())
+            ),
             st.r_max,
             run.snapshot_count()
         );

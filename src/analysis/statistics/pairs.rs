@@ -9,10 +9,12 @@
 //! (C_a^i C_b^j + C_b^i C_a^j) / 2 for the six pairs of components xx, yy, zz, xy, xz, yz, when
 //! both particles have a fluctuation.
 //!
-//! Cells have sides >= r_max, so a pair closer than r_max lies in one cell or in two
-//! neighbouring ones; a periodic axis with fewer than three such cells is one cell wide (every
-//! pair along it is then found by the minimum image, which is unique because r_max is at most
-//! half the period).
+//! Cells have sides >= r_max / 2, so a pair closer than r_max lies within two cells of each
+//! other along every axis (a stencil of 5 x 5 x 5 cells, half of it visited from each cell);
+//! a periodic axis with fewer than five such cells is one cell wide (every pair along it is
+//! then found by the minimum image, which is unique because r_max is at most half the period).
+//! The minimum image is taken by comparison with half the period (centres lie in the box), not
+//! by a division.
 
 use super::fluctuations::Fluctuation;
 use crate::engine::Particles;
@@ -110,10 +112,17 @@ pub fn sample(
             }
         }
     }
-    // cells of side >= r_max; a periodic axis with fewer than 3 is one cell wide
+    // cells of side >= r_max / REACH; a periodic axis with fewer than 2 REACH + 1 is one
+    // cell wide
+    const REACH: usize = 2;
+    let side = r_max / REACH as f64;
     let n: [usize; 3] = [0, 1, 2].map(|a| {
-        let k = ((ext[a] / r_max).floor() as usize).clamp(1, 1 << 10);
-        if periodic[a] && k < 3 { 1 } else { k }
+        let k = ((ext[a] / side).floor() as usize).clamp(1, 1 << 10);
+        if periodic[a] && k < 2 * REACH + 1 {
+            1
+        } else {
+            k
+        }
     });
     let cell_of = |r: &[f64; 3]| -> usize {
         let c = [0, 1, 2].map(|a| super::fluctuations::slab_of(r[a], ext[a], n[a]));
@@ -136,12 +145,6 @@ pub fn sample(
         fill[c] += 1;
     }
     // the particles' data in cell order
-    struct Item {
-        r: [f64; 3],
-        c: [f64; 3],
-        slab: usize,
-        defined: bool,
-    }
     let items: Vec<Item> = order
         .iter()
         .map(|&i| Item {
@@ -151,7 +154,8 @@ pub fn sample(
             defined: f[i].defined(),
         })
         .collect();
-    let offsets = |a: usize| -> &'static [isize] { if n[a] == 1 { &[0] } else { &[-1, 0, 1] } };
+    let offsets =
+        |a: usize| -> &'static [isize] { if n[a] == 1 { &[0] } else { &[-2, -1, 0, 1, 2] } };
     let mut stencil = Vec::new();
     for &dx in offsets(0) {
         for &dy in offsets(1) {
@@ -162,34 +166,20 @@ pub fn sample(
             }
         }
     }
-    let r2_max = r_max * r_max;
-    let inv_dr = 1.0 / dr;
-    let pair = |a: &Item, b: &Item, s: &mut PairSample| {
-        let mut d2 = 0.0;
-        for k in 0..3 {
-            let mut d = a.r[k] - b.r[k];
-            if periodic[k] {
-                d -= ext[k] * (d / ext[k]).round();
+    let lp = PairLoop {
+        r2_max: r_max * r_max,
+        inv_dr: 1.0 / dr,
+        period: [0, 1, 2].map(|a| if periodic[a] { ext[a] } else { 0.0 }),
+        half: [0, 1, 2].map(|a| {
+            if periodic[a] {
+                0.5 * ext[a]
+            } else {
+                f64::INFINITY
             }
-            d2 += d * d;
-        }
-        if d2 >= r2_max {
-            return;
-        }
-        let bin = ((d2.sqrt() * inv_dr) as usize).min(r_bins - 1);
-        s.counts[a.slab * r_bins + bin] += 1;
-        s.counts[b.slab * r_bins + bin] += 1;
-        if a.defined && b.defined {
-            let v = bin / per;
-            let products = PAIR_AXES.map(|(x, y)| 0.5 * (a.c[x] * b.c[y] + a.c[y] * b.c[x]));
-            for slab in [a.slab, b.slab] {
-                let base = (slab * vcf_bins + v) * 6;
-                for (k, q) in products.iter().enumerate() {
-                    s.products[base + k] += q;
-                }
-                s.product_pairs[slab * vcf_bins + v] += 1;
-            }
-        }
+        }),
+        r_bins,
+        per,
+        vcf_bins,
     };
     for cx in 0..n[0] {
         for cy in 0..n[1] {
@@ -198,7 +188,7 @@ pub fn sample(
                 let here = &items[start[c]..start[c + 1]];
                 for (k, a) in here.iter().enumerate() {
                     for b in &here[k + 1..] {
-                        pair(a, b, &mut s);
+                        lp.visit(a, b, &mut s);
                     }
                 }
                 for o in &stencil {
@@ -221,7 +211,7 @@ pub fn sample(
                     let there = &items[start[other]..start[other + 1]];
                     for a in here {
                         for b in there {
-                            pair(a, b, &mut s);
+                            lp.visit(a, b, &mut s);
                         }
                     }
                 }
@@ -229,4 +219,76 @@ pub fn sample(
         }
     }
     s
+}
+
+/// A particle as the pair loop reads it (in cell order).
+struct Item {
+    r: [f64; 3],
+    c: [f64; 3],
+    slab: usize,
+    defined: bool,
+}
+
+/// The constants of the pair loop.
+struct PairLoop {
+    r2_max: f64,
+    inv_dr: f64,
+    /// the period along each axis (0 along a wall axis)
+    period: [f64; 3],
+    /// half the period (infinite along a wall axis)
+    half: [f64; 3],
+    r_bins: usize,
+    per: usize,
+    vcf_bins: usize,
+}
+
+impl PairLoop {
+    /// Count the pair if it is closer than r_max (minimum image by comparison: centres lie in
+    /// the box, so one period at most is to be taken off).
+    #[inline(always)]
+    fn visit(&self, a: &Item, b: &Item, s: &mut PairSample) {
+        let mut d2 = 0.0;
+        for k in 0..3 {
+            let d = a.r[k] - b.r[k];
+            let d = if d > self.half[k] {
+                d - self.period[k]
+            } else if d < -self.half[k] {
+                d + self.period[k]
+            } else {
+                d
+            };
+            d2 += d * d;
+        }
+        if d2 < self.r2_max {
+            self.count(a, b, d2, s);
+        }
+    }
+
+    /// Add a pair closer than r_max to both particles' slabs.
+    #[inline(always)]
+    fn count(&self, a: &Item, b: &Item, d2: f64, s: &mut PairSample) {
+        let bin = ((d2.sqrt() * self.inv_dr) as usize).min(self.r_bins - 1);
+        s.counts[a.slab * self.r_bins + bin] += 1;
+        s.counts[b.slab * self.r_bins + bin] += 1;
+        if a.defined && b.defined {
+            let v = bin / self.per;
+            let (p, q) = (&a.c, &b.c);
+            let products = [
+                p[0] * q[0],
+                p[1] * q[1],
+                p[2] * q[2],
+                0.5 * (p[0] * q[1] + p[1] * q[0]),
+                0.5 * (p[0] * q[2] + p[2] * q[0]),
+                0.5 * (p[1] * q[2] + p[2] * q[1]),
+            ];
+            for slab in [a.slab, b.slab] {
+                let at = slab * self.vcf_bins + v;
+                let sums = &mut s.products[at * 6..at * 6 + 6];
+                for k in 0..6 {
+                    sums[k] += products[k];
+                }
+                s.product_pairs[at] += 1;
+            }
+        }
+    }
 }
