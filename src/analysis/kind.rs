@@ -58,6 +58,8 @@ pub struct StatisticsSnapshot {
 /// kinds read as [`Analysis::Structure`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
+// one per job, moved a few times: the size of the structure variant does not matter
+#[allow(clippy::large_enum_variant)]
 pub enum Analysis {
     Structure(JobAnalysis),
     Lattice(LatticeAnalysis),
@@ -663,7 +665,7 @@ impl Analysis {
                     .chain(
                         &a.statistics
                             .as_deref()
-                            .map_or_else(Vec::new, |s| super::statistics::tables::profile_rows(s)),
+                            .map_or_else(Vec::new, super::statistics::tables::profile_rows),
                     )
                     .map(|r| {
                         vec![

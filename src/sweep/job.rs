@@ -202,8 +202,14 @@ impl RunSettings {
                     "statistics",
                     format!(
                         "the {} engine's snapshots carry no particles: the statistics need \
-                         particles with velocities (engines with them: the structure analysis')",
-                        engine.name
+                         particles with velocities (engines whose snapshots carry them: {})",
+                        engine.name,
+                        registry::ENGINES
+                            .iter()
+                            .filter(|e| e.analysis.supports_statistics())
+                            .map(|e| e.name)
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
                 ));
             }

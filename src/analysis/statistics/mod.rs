@@ -248,7 +248,7 @@ impl StatisticsPlan {
     /// Whether snapshot `index` (0: the initial state) reading `reading` on the clock carries
     /// statistics.
     pub fn samples(&self, index: u32, reading: f64) -> bool {
-        index > 0 && index % self.settings.every == 0 && reading >= self.skip_before
+        index > 0 && index.is_multiple_of(self.settings.every) && reading >= self.skip_before
     }
 }
 

@@ -212,7 +212,11 @@ pub fn analyse(
     let mut rows = Vec::new();
     let mut moments = Vec::new();
     for slab in 0..slabs.min(first.count.len() / 6) {
-        for a in 0..first.components as usize {
+        for (a, name) in COMPONENTS
+            .iter()
+            .enumerate()
+            .take(first.components as usize)
+        {
             let k = slab * 6 + a;
             let m = pooled(&same, k);
             if m.0 == 0 || m.1 <= 0.0 {
@@ -227,7 +231,7 @@ pub fn analyse(
             moments.push(MomentRow {
                 slab: slab as u32,
                 y: y_of(slab),
-                component: COMPONENTS[a].into(),
+                component: (*name).into(),
                 samples: m.0,
                 sigma: sigma / scale,
                 skewness: skewness(m),
@@ -258,7 +262,7 @@ pub fn analyse(
                 rows.push(VdfRow {
                     slab: slab as u32,
                     y: y_of(slab),
-                    component: COMPONENTS[a].into(),
+                    component: (*name).into(),
                     x: (j as f64 - half as f64) * dx,
                     p: if zero > 0.0 { d / zero } else { f64::NAN },
                     density: *d,

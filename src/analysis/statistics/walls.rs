@@ -1,6 +1,7 @@
 //! Slip, temperatures and gradients at the walls (thesis 3.1.1, Figs. 3.10-3.11), from the
 //! window-averaged cross-channel profiles of the structure analysis (phi, U_x, omega_z, T,
-//! theta; reused, not recomputed): "all the quantities at the walls are average values of two
+//! theta over its `profile_bins` bins and its window, the steady window or else the final
+//! third; reused, not recomputed): "all the quantities at the walls are average values of two
 //! bins adjacent to the left and right walls".
 //!
 //! Sign folding: a quantity even under the reflection y -> W - y (U_x, T, theta) is averaged
