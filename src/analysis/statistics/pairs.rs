@@ -9,8 +9,8 @@
 //! (C_a^i C_b^j + C_b^i C_a^j) / 2 for the six pairs of components xx, yy, zz, xy, xz, yz, when
 //! both particles have a fluctuation.
 //!
-//! Cells have sides >= r_max / 2, so a pair closer than r_max lies within two cells of each
-//! other along every axis (a stencil of 5 x 5 x 5 cells, half of it visited from each cell);
+//! Cells have sides >= r_max / 2 (and >= the volume per particle^(1/3)), so a pair closer than
+//! r_max lies within two cells of each other along every axis (a stencil of 5 x 5 x 5 cells, half of it visited from each cell);
 //! a periodic axis with fewer than five such cells is one cell wide (every pair along it is
 //! then found by the minimum image, which is unique because r_max is at most half the period).
 //! The minimum image is taken by comparison with half the period (centres lie in the box), not
@@ -114,8 +114,11 @@ pub fn sample(
     }
     // cells of side >= r_max / REACH; a periodic axis with fewer than 2 REACH + 1 is one
     // cell wide
+    // (and of at least the volume per particle, so that a dilute box with a short r_max is
+    // not cut into far more cells than it has particles)
     const REACH: usize = 2;
-    let side = r_max / REACH as f64;
+    let per_particle = (l * w * h / p.len().max(1) as f64).cbrt();
+    let side = (r_max / REACH as f64).max(per_particle);
     let n: [usize; 3] = [0, 1, 2].map(|a| {
         let k = ((ext[a] / side).floor() as usize).clamp(1, 1 << 10);
         if periodic[a] && k < 2 * REACH + 1 {
