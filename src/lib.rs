@@ -8,7 +8,8 @@
 //!     --> per-job outputs (atomic writes) --> gather --> results/<sweep>/*.parquet --> phase diagram
 //! ```
 //! - [`engine`]: the engine boundary and the event-driven engine ([`engine::edmd`]).
-//! - [`analysis`]: fields, spectra, profiles, steady-state detection, classification.
+//! - [`analysis`]: fields, spectra, profiles, steady-state detection, classification, and the
+//!   thesis' chapter 3-4 statistics ([`analysis::statistics`], opt-in per sweep).
 //! - [`sweep`]: sweep files, grids, job ids, the resumable queue, tables, phase diagrams.
 //! - [`slurm`]: job arrays on a Slurm cluster running the same job code; status via squeue.
 //! - [`provenance`]: which code made a result (version, commit, engine and analysis versions).

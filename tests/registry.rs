@@ -491,7 +491,7 @@ fn results_readme_documents_every_column() {
         .collect();
     let mut all: Vec<(String, String)> = Vec::new();
     for engine in registry::ENGINES {
-        for (table, columns) in granflow::sweep::tables::schema(engine) {
+        for (table, columns) in granflow::sweep::tables::schema_with_statistics(engine) {
             for (c, kind) in columns {
                 let kind = kind.doc_name();
                 assert!(

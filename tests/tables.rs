@@ -75,8 +75,52 @@ fn three_states(engine: &str, sweep: &str, names: &[String]) -> [PathBuf; 3] {
     states
 }
 
-#[test]
-fn every_table_has_one_schema_whether_no_some_or_all_jobs_are_done() {
+/// Read the tables of `engine`'s sweep in the three states with pyarrow and DuckDB and check
+/// them against `schema` (and the field units in `units`: table -> column -> unit).
+fn check_tables(
+    name: &str,
+    label: &str,
+    sweep: &str,
+    schema: &[(
+        String,
+        Vec<(String, granflow::analysis::columns::ColumnKind)>,
+    )],
+    units: serde_json::Value,
+) {
+    let names: Vec<String> = schema.iter().map(|(t, _)| t.clone()).collect();
+    let [none, some, all] = three_states(label, sweep, &names);
+    let tables: Vec<serde_json::Value> = schema
+        .iter()
+        .map(|(table, columns)| {
+            let columns: Vec<[String; 2]> = columns
+                .iter()
+                .map(|(c, kind)| [c.clone(), kind.doc_name()])
+                .collect();
+            serde_json::json!([table, columns])
+        })
+        .collect();
+    let spec = serde_json::json!({
+        "engine": name,
+        "jobs": 2,
+        "some_done": 1,
+        "tables": tables,
+        "units": units,
+        "states": {"none": none, "some": some, "all": all},
+    });
+    let out = Command::new("python3")
+        .args(["-c", include_str!("tables_check.py"), &spec.to_string()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{label}: the tables do not read as declared:\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprint!("{}", String::from_utf8_lossy(&out.stdout));
+}
+
+fn python_readers_present() {
     let probe = Command::new("python3")
         .args(["-c", "import pyarrow, duckdb"])
         .output();
@@ -84,40 +128,52 @@ fn every_table_has_one_schema_whether_no_some_or_all_jobs_are_done() {
         probe.as_ref().is_ok_and(|o| o.status.success()),
         "python3 with pyarrow and duckdb is needed (.ci/run installs them; locally: python3 -m pip install pyarrow duckdb): {probe:?}"
     );
+}
+
+#[test]
+fn every_table_has_one_schema_whether_no_some_or_all_jobs_are_done() {
+    python_readers_present();
     for (name, sweep) in SWEEPS {
         let engine = registry::find(name).unwrap();
         let schema = granflow::sweep::tables::schema(engine);
-        let names: Vec<String> = schema.iter().map(|(t, _)| t.clone()).collect();
-        let [none, some, all] = three_states(name, sweep, &names);
-        let tables: Vec<serde_json::Value> = schema
+        check_tables(name, name, sweep, &schema, serde_json::json!({}));
+    }
+}
+
+/// The statistics' tables (issue 25) of an EDMD sweep with `run.statistics`: the same checks
+/// (one schema in three states, pyarrow and DuckDB, no NaN, `job_id` the only shared column),
+/// every statistics table non-empty once the jobs are done, and the units in the fields'
+/// metadata.
+#[test]
+fn the_statistics_tables_read_back_with_pyarrow_and_duckdb() {
+    python_readers_present();
+    let engine = registry::find("edmd").unwrap();
+    let schema = granflow::sweep::tables::schema_with_statistics(engine);
+    // the units results/README.md gives, which every field must carry
+    let mut units = serde_json::Map::new();
+    for (table, columns) in &schema {
+        let m: serde_json::Map<String, serde_json::Value> = columns
             .iter()
-            .map(|(table, columns)| {
-                let columns: Vec<[String; 2]> = columns
-                    .iter()
-                    .map(|(c, kind)| [c.clone(), kind.doc_name()])
-                    .collect();
-                serde_json::json!([table, columns])
+            .map(|(c, _)| {
+                let doc = granflow::sweep::tables::column_docs::lookup(table, "edmd", c)
+                    .unwrap_or_else(|| panic!("{table}.{c} is not documented"));
+                (c.clone(), serde_json::json!(doc.unit))
             })
             .collect();
-        let spec = serde_json::json!({
-            "engine": name,
-            "jobs": 2,
-            "some_done": 1,
-            "tables": tables,
-            "states": {"none": none, "some": some, "all": all},
-        });
-        let out = Command::new("python3")
-            .args(["-c", include_str!("tables_check.py"), &spec.to_string()])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{name}: the tables do not read as declared:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-        eprint!("{}", String::from_utf8_lossy(&out.stdout));
+        units.insert(table.clone(), serde_json::Value::Object(m));
     }
+    let sweep = SWEEPS[0].1.replace(
+        "checkpoint_every: 1000)",
+        "checkpoint_every: 1000, statistics: (bins: 4, r_max: 2.0))",
+    );
+    assert!(sweep.contains("statistics"));
+    check_tables(
+        "edmd",
+        "edmd-statistics",
+        &sweep,
+        &schema,
+        serde_json::Value::Object(units),
+    );
 }
 
 /// The tables hold seeds as signed 64-bit integers: a larger seed is refused as bad input.

@@ -91,6 +91,9 @@ for state in ["none", "some", "all"]:
         for f in schema:
             md = f.metadata or {}
             assert md.get(b"unit") and md.get(b"description"), f"{where}: {f.name} has no unit: {md}"
+        for column, unit in spec.get("units", {}).get(table, {}).items():
+            meta = schema.field(column).metadata or {}
+            assert meta.get(b"unit", b"").decode() == unit, f"{where}: {column} unit {meta}"
         provenance = pq.ParquetFile(path).metadata.metadata
         assert provenance[b"granflow.engine"].decode() == engine, where
         # DuckDB: the types the declaration gives, and arithmetic on every integer

@@ -6,8 +6,9 @@
 use super::columns::{Cell, ColumnDef, ColumnKind, TableDef};
 use super::lattice::{LatticeAnalysis, LatticeRecord, LatticeSettings};
 use super::rarefied::{RarefiedAnalysis, RarefiedRecord, RarefiedSettings};
+use super::statistics::{StatisticsPlan, StatisticsRecord};
 use super::{AnalysisSettings, JobAnalysis, SnapshotRecord};
-use crate::engine::Snapshot;
+use crate::engine::{FreePathTally, Snapshot};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
@@ -32,6 +33,8 @@ pub enum Analyser {
     Structure(AnalysisSettings),
     Lattice(LatticeSettings),
     Rarefied(RarefiedSettings),
+    /// the structure analysis and the thesis' statistics (runs with `run.statistics`)
+    StructureWithStatistics(AnalysisSettings, Box<StatisticsPlan>),
 }
 
 /// What one snapshot contributes, by kind.
@@ -40,6 +43,15 @@ pub enum Record {
     Structure(SnapshotRecord),
     Lattice(LatticeRecord),
     Rarefied(Box<RarefiedRecord>),
+    /// a structure record with the statistics of the same snapshot
+    Statistics(Box<StatisticsSnapshot>),
+}
+
+/// The structure record and the statistics record of one snapshot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StatisticsSnapshot {
+    pub structure: SnapshotRecord,
+    pub statistics: StatisticsRecord,
 }
 
 /// A job's analysis, by kind (untagged in `result.ron`: results written before there were
@@ -49,6 +61,8 @@ pub enum Record {
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
+// one per job, moved a few times: the size of the structure variant does not matter
+#[allow(clippy::large_enum_variant)]
 pub enum Analysis {
     Structure(JobAnalysis),
     Lattice(LatticeAnalysis),
@@ -65,6 +79,12 @@ impl AnalysisKind {
             AnalysisKind::Lattice => 1,
             AnalysisKind::Rarefied => 1,
         }
+    }
+
+    /// Whether runs of this kind can gather the thesis' statistics (`run.statistics`): the
+    /// structure analysis, whose snapshots carry particles with velocities.
+    pub fn supports_statistics(self) -> bool {
+        matches!(self, AnalysisKind::Structure)
     }
 
     /// Whether a run of this kind can stop once steady (`run.until_steady`).
@@ -414,20 +434,62 @@ impl Analyser {
     /// The settings as JSON (all keys, resolved).
     pub fn settings(&self) -> Value {
         match self {
-            Analyser::Structure(s) => serde_json::to_value(s).expect("settings serialise"),
+            Analyser::Structure(s) | Analyser::StructureWithStatistics(s, _) => {
+                serde_json::to_value(s).expect("settings serialise")
+            }
             Analyser::Lattice(s) => serde_json::to_value(s).expect("settings serialise"),
             Analyser::Rarefied(s) => serde_json::to_value(s).expect("settings serialise"),
         }
     }
 
-    /// The record of one snapshot.
-    pub fn record(&self, snapshot: &Snapshot) -> Result<Record, String> {
+    /// The same analysis with the statistics of `plan` (kinds other than the structure
+    /// analysis, whose snapshots carry no particles, are returned unchanged).
+    pub fn with_statistics(self, plan: StatisticsPlan) -> Analyser {
         match self {
-            Analyser::Structure(s) => {
+            Analyser::Structure(s) | Analyser::StructureWithStatistics(s, _) => {
+                Analyser::StructureWithStatistics(s, Box::new(plan))
+            }
+            other => other,
+        }
+    }
+
+    /// The slabs over which the engine should tally free paths (None: no statistics).
+    pub fn free_path_slabs(&self) -> Option<usize> {
+        match self {
+            Analyser::StructureWithStatistics(_, plan) => Some(plan.settings.bins),
+            _ => None,
+        }
+    }
+
+    /// The record of one snapshot (without free paths, as snapshot 1: see
+    /// [`Analyser::record_with`]).
+    pub fn record(&self, snapshot: &Snapshot) -> Result<Record, String> {
+        self.record_with(snapshot, 1, None)
+    }
+
+    /// The record of snapshot `index` (0: the initial state) with the free paths the engine
+    /// handed over after it.
+    pub fn record_with(
+        &self,
+        snapshot: &Snapshot,
+        index: u32,
+        free_paths: Option<FreePathTally>,
+    ) -> Result<Record, String> {
+        match self {
+            Analyser::Structure(s) | Analyser::StructureWithStatistics(s, _) => {
                 if snapshot.particles().is_none() {
                     return Err("the structure analysis needs particles, and this engine's snapshots carry none".into());
                 }
-                Ok(Record::Structure(super::record_snapshot(snapshot, s)))
+                let structure = super::record_snapshot(snapshot, s);
+                Ok(match self {
+                    Analyser::StructureWithStatistics(_, plan) => {
+                        Record::Statistics(Box::new(StatisticsSnapshot {
+                            structure,
+                            statistics: plan.record(index, snapshot, free_paths),
+                        }))
+                    }
+                    _ => Record::Structure(structure),
+                })
             }
             Analyser::Lattice(s) => {
                 let lattice = snapshot.lattice().ok_or(
@@ -455,12 +517,34 @@ impl Analyser {
             Analyser::Structure(s) => {
                 let records: Vec<SnapshotRecord> = records
                     .iter()
+                    .filter_map(|r| r.structure().cloned())
+                    .collect();
+                Ok(Analysis::Structure(super::analyse_job(&records, s)))
+            }
+            Analyser::StructureWithStatistics(s, plan) => {
+                let structure: Vec<SnapshotRecord> = records
+                    .iter()
+                    .filter_map(|r| r.structure().cloned())
+                    .collect();
+                let mut a = super::analyse_job(&structure, s);
+                let with: Vec<super::statistics::WindowRecord> = records
+                    .iter()
                     .filter_map(|r| match r {
-                        Record::Structure(r) => Some(r.clone()),
+                        Record::Statistics(r) => Some(super::statistics::WindowRecord {
+                            structure: &r.structure,
+                            statistics: &r.statistics,
+                        }),
                         _ => None,
                     })
                     .collect();
-                Ok(Analysis::Structure(super::analyse_job(&records, s)))
+                let window = (a.summary.window_start, a.summary.window_end);
+                a.statistics = Some(Box::new(super::statistics::analyse(
+                    &with,
+                    plan,
+                    window,
+                    &a.profiles,
+                )));
+                Ok(Analysis::Structure(a))
             }
             Analyser::Lattice(s) => {
                 let records: Vec<LatticeRecord> = records
@@ -503,13 +587,10 @@ impl Analyser {
         check: &mut StopCheck,
     ) -> Option<String> {
         match self {
-            Analyser::Structure(s) => {
+            Analyser::Structure(s) | Analyser::StructureWithStatistics(s, _) => {
                 let records: Vec<SnapshotRecord> = records
                     .iter()
-                    .filter_map(|r| match r {
-                        Record::Structure(r) => Some(r.clone()),
-                        _ => None,
-                    })
+                    .filter_map(|r| r.structure().cloned())
                     .collect();
                 super::steady_over(&records, s, clock, window, &mut check.structure)
             }
@@ -520,10 +601,20 @@ impl Analyser {
 }
 
 impl Record {
+    /// The structure record (of structure and statistics records), else None.
+    pub fn structure(&self) -> Option<&SnapshotRecord> {
+        match self {
+            Record::Structure(r) => Some(r),
+            Record::Statistics(r) => Some(&r.structure),
+            _ => None,
+        }
+    }
+
     /// Simulated time at the snapshot.
     pub fn time(&self) -> f64 {
         match self {
             Record::Structure(r) => r.time,
+            Record::Statistics(r) => r.structure.time,
             Record::Lattice(r) => r.step as f64,
             Record::Rarefied(r) => r.sums.end_step as f64,
         }
@@ -575,10 +666,17 @@ impl Analysis {
             Analysis::Lattice(a) => serde_json::to_value(&a.summary),
             Analysis::Rarefied(a) => return rarefied_summary(&a.summary),
         };
-        match v {
+        let mut m = match v {
             Ok(Value::Object(m)) => m,
             _ => Map::new(),
+        };
+        if let Analysis::Structure(a) = self
+            && let Some(s) = &a.statistics
+            && let Ok(Value::Object(more)) = serde_json::to_value(&s.summary)
+        {
+            m.extend(more);
         }
+        m
     }
 
     /// The rows of one of the kind's tables (cells in the declared column order).
@@ -598,17 +696,26 @@ impl Analysis {
                     })
                     .collect(),
                 "profiles" => {
+                    // the structure's profiles and, with statistics, lambda(y) and Kn(y)
+                    let rows: Vec<super::ProfileRow> = a
+                        .profiles
+                        .iter()
+                        .cloned()
+                        .chain(
+                            a.statistics
+                                .as_deref()
+                                .map_or_else(Vec::new, super::statistics::tables::profile_rows),
+                        )
+                        .collect();
                     // bins of equal width across W: the centre of bin b of n is (b + 1/2) / n
                     let bins = |q: &str| {
-                        a.profiles
-                            .iter()
+                        rows.iter()
                             .filter(|r| r.quantity == q)
                             .map(|r| r.bin + 1)
                             .max()
                             .unwrap_or(1)
                     };
-                    a.profiles
-                        .iter()
+                    rows.iter()
                         .map(|r| {
                             vec![
                                 r.quantity.as_str().into(),
@@ -663,7 +770,11 @@ impl Analysis {
                         ]
                     })
                     .collect(),
-                _ => Vec::new(),
+                other => a
+                    .statistics
+                    .as_deref()
+                    .map(|s| super::statistics::tables::rows(s, other))
+                    .unwrap_or_default(),
             },
             Analysis::Lattice(a) => match table {
                 "spectra" => a

@@ -25,9 +25,10 @@ pub mod rarefied;
 mod report;
 pub mod snapshot_io;
 pub mod spectrum;
+pub mod statistics;
 pub mod steady;
 
-pub use kind::{Analyser, Analysis, AnalysisKind, Record, StopCheck};
+pub use kind::{Analyser, Analysis, AnalysisKind, Record, StatisticsSnapshot, StopCheck};
 pub use profiles::BinSums;
 pub use report::MIN_LABEL_RUN;
 pub use snapshot_io::{SnapshotNames, write_vtk_density, write_xyz};
@@ -180,6 +181,9 @@ pub struct JobAnalysis {
     /// the structure at the run's milestones (the `evolution` table)
     #[serde(default)]
     pub milestones: Vec<milestones::MilestoneRow>,
+    /// the thesis' statistics (runs with `run.statistics` only)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub statistics: Option<Box<statistics::Statistics>>,
 }
 
 /// The one-row summary of a job's structure.
@@ -746,5 +750,6 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
             .milestones
             .as_ref()
             .map_or_else(Vec::new, |plan| milestones::milestone_rows(records, plan)),
+        statistics: None,
     }
 }

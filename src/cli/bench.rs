@@ -57,6 +57,19 @@ pub struct BenchArgs {
     /// timed simulator moves of each DSMC workload (after 500 untimed steps)
     #[arg(long, default_value_t = 3e8)]
     pub moves: f64,
+    /// EDMD workloads: tally free paths between collisions (25 slabs) through the timed
+    /// stretch, as a run with statistics does
+    #[arg(long)]
+    pub free_paths: bool,
+    /// EDMD workloads: take this many snapshots evenly through the timed stretch, each reduced
+    /// to the analysis record a job keeps (the structure record; with --statistics also the
+    /// statistics), as a job's snapshot cadence
+    #[arg(long, default_value_t = 0)]
+    pub snapshots: u32,
+    /// with --snapshots: the statistics (those of sweeps/thesis-ch4-dense.ron: 25 slabs,
+    /// r_max = 8 d) at every snapshot, and free paths tallied throughout
+    #[arg(long)]
+    pub statistics: bool,
 }
 
 /// The neighbour search a benchmark uses.
@@ -103,6 +116,10 @@ pub struct BenchResult {
     /// DSMC only: simulator moves per second
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moves_per_s: Option<f64>,
+    /// EDMD with --snapshots: wall seconds per snapshot spent on its analysis record (the
+    /// statistics included with --statistics), inside the timed stretch
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub record_seconds: Option<f64>,
 }
 
 /// A number written as null (NaN in JSON) read back as NaN.
@@ -170,6 +187,7 @@ fn measure_dsmc(w: &DsmcWorkload, moves: f64) -> anyhow::Result<BenchResult> {
         bytes_per_particle: bytes_per_particle(baseline, n, 64.0),
         site_updates_per_s: None,
         moves_per_s: Some(moves_per_s),
+        record_seconds: None,
     })
 }
 
@@ -228,6 +246,7 @@ fn measure_lga(w: &LgaWorkload, site_updates: f64) -> anyhow::Result<BenchResult
         ),
         site_updates_per_s: Some(updates),
         moves_per_s: None,
+        record_seconds: None,
     })
 }
 
@@ -283,7 +302,26 @@ fn workloads(args: &BenchArgs) -> Vec<Workload> {
             params: EdmdParams::channel(90.0, 30.0, 30.0, 0.15, 1),
             warmup: args.channel_warmup,
         },
+        Workload {
+            // the thesis' dense case (ch. 4.2, sweeps/thesis-ch4-dense.ron): N = 19 600 in
+            // 20 x 50 x 20, phi = 0.51, e = beta = 0.9, e_w = beta_w = 1
+            name: "channel-ch4-dense-N19600",
+            params: thesis_dense_channel(),
+            warmup: args.channel_warmup,
+        },
     ]
+}
+
+/// The thesis' dense channel (section 4.2): N = 19 600 in 20 x 50 x 20 d, e = beta = 0.9,
+/// walls e_w = beta_w = 1.
+fn thesis_dense_channel() -> EdmdParams {
+    let mut p = EdmdParams::channel(20.0, 50.0, 20.0, 0.5, 1);
+    p.particles = 19_600;
+    p.restitution = 0.9;
+    p.roughness = 0.9;
+    p.wall_restitution = 1.0;
+    p.wall_roughness = 1.0;
+    p
 }
 
 /// Run one workload: untimed set-up and warm-up, then the timed stretch.
@@ -326,13 +364,34 @@ fn bytes_per_particle(baseline: Option<f64>, n: usize, fallback: f64) -> f64 {
     }
 }
 
-fn measure(w: &Workload, search: SearchPolicy, measured_cpp: f64) -> anyhow::Result<BenchResult> {
+fn measure(w: &Workload, search: SearchPolicy, args: &BenchArgs) -> anyhow::Result<BenchResult> {
+    let measured_cpp = args.collisions_per_particle;
     let baseline = memory_baseline();
     let mut engine = EdmdEngine::with_policy(w.params.clone(), search)?;
     engine.advance(StopAt::CollisionsPerParticle(w.warmup))?;
     let before = engine.snapshot().progress;
+    let analyser = snapshot_analyser(args)?;
+    if args.free_paths || args.statistics {
+        engine.record_free_paths(crate::analysis::statistics::DEFAULT_BINS);
+    }
     let started = Instant::now();
-    engine.advance(StopAt::CollisionsPerParticle(w.warmup + measured_cpp))?;
+    let stops = args.snapshots.max(1);
+    let mut recording = 0.0;
+    for k in 1..=stops {
+        let at = w.warmup + measured_cpp * k as f64 / stops as f64;
+        engine.advance(StopAt::CollisionsPerParticle(at))?;
+        if args.snapshots > 0 {
+            let snap = engine.snapshot();
+            let paths = engine.take_free_paths();
+            let t = Instant::now();
+            std::hint::black_box(
+                analyser
+                    .record_with(&snap, k, paths)
+                    .map_err(anyhow::Error::msg)?,
+            );
+            recording += t.elapsed().as_secs_f64();
+        }
+    }
     let secs = started.elapsed().as_secs_f64();
     let after = engine.progress();
     let collisions = (after.collisions_per_particle - w.warmup) * w.params.particles as f64 / 2.0;
@@ -349,6 +408,28 @@ fn measure(w: &Workload, search: SearchPolicy, measured_cpp: f64) -> anyhow::Res
         ),
         site_updates_per_s: None,
         moves_per_s: None,
+        record_seconds: (args.snapshots > 0).then(|| recording / args.snapshots as f64),
+    })
+}
+
+/// The analysis a job would run on the workloads' snapshots: the structure analysis with
+/// default settings, with the default statistics when asked.
+fn snapshot_analyser(args: &BenchArgs) -> anyhow::Result<crate::analysis::Analyser> {
+    let kind = crate::analysis::AnalysisKind::Structure;
+    let structure = kind
+        .analyser(&kind.default_settings())
+        .map_err(anyhow::Error::msg)?;
+    Ok(if args.statistics {
+        // the settings of sweeps/thesis-ch4-dense.ron: 25 slabs, r_max = 8 d
+        let settings = crate::analysis::statistics::StatisticsSettings {
+            r_max: 8.0,
+            ..Default::default()
+        };
+        structure.with_statistics(crate::analysis::statistics::StatisticsPlan::every_snapshot(
+            settings,
+        ))
+    } else {
+        structure
     })
 }
 
@@ -385,6 +466,9 @@ fn measure_isolated(name: &str, args: &BenchArgs) -> anyhow::Result<BenchResult>
         .args(["--search", search, "--skin", &args.skin.to_string()])
         .args(["--site-updates", &args.site_updates.to_string()])
         .args(["--moves", &args.moves.to_string()])
+        .args(["--snapshots", &args.snapshots.to_string()])
+        .args(args.free_paths.then_some("--free-paths"))
+        .args(args.statistics.then_some("--statistics"))
         .stderr(std::process::Stdio::null())
         .output()?;
     anyhow::ensure!(
@@ -474,7 +558,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         let r = if isolate {
             measure_isolated(w.name, &args)?
         } else {
-            measure(w, search, args.collisions_per_particle)?
+            measure(w, search, &args)?
         };
         if !args.json {
             let name = match search.search {
@@ -486,14 +570,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             } else {
                 name
             };
+            let record = r
+                .record_seconds
+                .map(|s| format!(", {:.1} ms per snapshot record", 1e3 * s))
+                .unwrap_or_default();
             outln!(
-                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}",
-                r.workload,
-                r.n,
-                r.phi,
-                r.collisions_per_s,
-                r.events_per_s,
-                r.bytes_per_particle
+                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}{record}",
+                r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
             );
         }
         results.push(r);

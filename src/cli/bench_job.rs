@@ -69,5 +69,6 @@ pub fn measure(
         bytes_per_particle: engine.bytes_per_particle(),
         site_updates_per_s: None,
         moves_per_s: None,
+        record_seconds: None,
     })
 }

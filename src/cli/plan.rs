@@ -88,6 +88,30 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
         line.push_str(&format!("  {}", p.seed));
         outln!("{line}");
     }
+    if let Some(st) = &sweep.spec.run.statistics {
+        let run = &sweep.spec.run;
+        let plan = crate::analysis::statistics::StatisticsPlan::for_run(
+            st.clone(),
+            run.clock(),
+            run.length(),
+            run.until_steady.is_some(),
+        );
+        let sampled = (1..=run.snapshot_count())
+            .filter(|&k| plan.samples(k, run.snapshot_target(k)))
+            .count();
+        outln!(
+            "statistics: {} slabs, window {}, r_max {} d: {sampled} statistics snapshots per job \
+             (of {}; each costs one pass over the pairs closer than r_max), free paths tallied \
+             throughout",
+            st.bins,
+            st.window.map_or(
+                "as the structure analysis' (steady window, else final third)".to_string(),
+                |w| format!("the last {w} {}", run.clock().key())
+            ),
+            st.r_max,
+            run.snapshot_count()
+        );
+    }
     let threads = args
         .threads
         .unwrap_or_else(|| crate::sweep::runner::RunOptions::default().threads);

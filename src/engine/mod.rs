@@ -9,12 +9,14 @@ pub mod declare;
 pub mod dsmc;
 pub mod edmd;
 pub mod envelope;
+pub mod free_paths;
 pub mod lga;
 pub mod registry;
 
 use serde::{Deserialize, Serialize};
 
 pub use declare::{Clock, EngineDef, ParamDef, ParamValue, Values};
+pub use free_paths::FreePathTally;
 
 /// The simulation box. x is the flow direction (periodic, gravity along +x), y is across the
 /// channel (two flat walls at y = 0 and y = W, or periodic), z is the span (periodic).
@@ -321,6 +323,19 @@ pub trait Engine: Send {
     /// The whole engine state as bytes sealed in an [`envelope`] that names the engine. Only
     /// valid directly after `snapshot` (the deterministic synchronisation point).
     fn checkpoint(&self) -> Vec<u8>;
+    /// Start tallying free paths between collisions ([`free_paths`]) over `slabs` slabs
+    /// across y, from now on (statistics runs; nothing is tallied otherwise). Not part of the
+    /// state: a job switches it on again after a restore. False when the engine has no
+    /// collisions to measure (the default).
+    fn record_free_paths(&mut self, _slabs: usize) -> bool {
+        false
+    }
+    /// The free paths ended since the last call (or since recording started), leaving an
+    /// empty tally; None when the engine does not record them. A job takes them right after
+    /// every snapshot, so that a checkpoint (taken there) never holds any.
+    fn take_free_paths(&mut self) -> Option<FreePathTally> {
+        None
+    }
 }
 
 /// Rebuild an engine from checkpoint bytes written by [`Engine::checkpoint`]: the envelope

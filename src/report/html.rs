@@ -149,6 +149,7 @@ pub fn page(
     dirs: &SweepDirs,
     diagram: Option<&DiagramView>,
     views: &[JobView],
+    comparisons: &[super::Comparison],
 ) -> String {
     let engine = sweep.engine();
     let mut h = String::new();
@@ -212,6 +213,24 @@ pub fn page(
         None => h.push_str("<p>Nothing is swept: no diagram.</p>\n"),
     }
     h.push_str("</section>\n");
+    if !comparisons.is_empty() {
+        h.push_str(
+            "<section id=\"statistics\">\n<h2>Statistics across the sweep</h2>\n<p>The \
+             thesis' chapter 3 and 4 measures of every job (columns of <code>jobs.parquet</code>; \
+             definitions in docs/statistics.md).</p>\n",
+        );
+        for c in comparisons {
+            let _ = writeln!(
+                h,
+                "<figure id=\"statistics-{}\"><img alt=\"{}\" src=\"{}\"><figcaption>{}</figcaption></figure>",
+                escape(&c.name),
+                escape(&c.name),
+                png_url(&c.png),
+                escape(&c.caption)
+            );
+        }
+        h.push_str("</section>\n");
+    }
     jobs_table(&mut h, sweep, views);
     for v in views {
         job_section(&mut h, sweep, dirs, v);

@@ -7,7 +7,11 @@
 //!   of every snapshot along the run);
 //! - lattice gas: `spacetime` (the seed's Fig. 1 picture; PNG only, a raster of up to 10^5
 //!   cells);
-//! - rarefied gas (DSMC): `profiles` (density, velocity, temperature with their errors).
+//! - rarefied gas (DSMC): `profiles` (density, velocity, temperature with their errors);
+//! - the thesis' statistics (runs with `run.statistics`), in the thesis' layout
+//!   ([`super::statistics_figures`]): `vdf` (panels a-f: C_x .. Omega_z at the wall, shear
+//!   and centre slabs with the Gaussian), `pair_correlation`, `orientation` (Lambda(y) with
+//!   1/3), `velocity_correlation` (C_xx, C_yy, C_zz) and `knudsen` (Kn(y), P(l)).
 //!
 //! A running job's figures are drawn the same way from the records it has written so far.
 
@@ -47,6 +51,8 @@ enum Plot {
         quantity: String,
         range: (f64, f64),
     },
+    /// panels of named curves with a dashed reference
+    Series(Vec<SeriesPanel>),
     /// a coloured strip, one cell per snapshot
     Labels {
         snapshots: Vec<(f64, String)>,
@@ -61,6 +67,15 @@ struct CurvePanel {
     title: String,
     x_label: String,
     points: Vec<(f64, f64, f64)>,
+}
+
+/// A panel of named curves (x, y) with an optional dashed reference curve.
+pub(crate) struct SeriesPanel {
+    pub title: String,
+    pub x_label: String,
+    pub series: Vec<(String, Vec<(f64, f64)>)>,
+    pub reference: Option<(String, Vec<(f64, f64)>)>,
+    pub log_y: bool,
 }
 
 /// A panel of cells: `values[i * ny + j]` covers [x_edges[i], x_edges[i+1]] x
@@ -85,6 +100,14 @@ impl JobFigure {
         match &self.plot {
             Plot::Trace { .. } => (760, 420),
             Plot::Curves(panels) => (960, 260 * panels.len().div_ceil(3).max(1) as u32),
+            Plot::Series(panels) => (
+                if panels.len() < 3 {
+                    480 * panels.len().max(1) as u32
+                } else {
+                    1200
+                },
+                320 * panels.len().div_ceil(3).max(1) as u32,
+            ),
             Plot::Maps { .. } => (1040, 380),
             Plot::Labels { .. } => (900, 210),
             Plot::Spacetime(a) => crate::analysis::lattice::spacetime_size(a),
@@ -128,6 +151,15 @@ impl JobFigure {
                 quantity,
                 range,
             } => draw_maps(root, panels, quantity, *range),
+            Plot::Series(panels) => {
+                let columns = panels.len().clamp(1, 3);
+                let rows = panels.len().div_ceil(3).max(1);
+                let areas = root.split_evenly((rows, columns));
+                for (panel, area) in panels.iter().zip(&areas) {
+                    draw_series_panel(area, panel)?;
+                }
+                Ok(())
+            }
             Plot::Labels {
                 snapshots,
                 window,
@@ -143,13 +175,8 @@ impl JobFigure {
 pub fn figures(analysis: &Analysis, records: &[Record]) -> Vec<JobFigure> {
     match analysis {
         Analysis::Structure(a) => {
-            let records: Vec<&SnapshotRecord> = records
-                .iter()
-                .filter_map(|r| match r {
-                    Record::Structure(r) => Some(r),
-                    _ => None,
-                })
-                .collect();
+            let records: Vec<&SnapshotRecord> =
+                records.iter().filter_map(Record::structure).collect();
             structure_figures(a, &records)
         }
         Analysis::Lattice(a) if !a.spacetime.is_empty() => vec![JobFigure {
@@ -273,6 +300,18 @@ fn structure_figures(a: &JobAnalysis, records: &[&SnapshotRecord]) -> Vec<JobFig
     }
     if let Some(f) = density_figure(records) {
         out.push(f);
+    }
+    if let Some(st) = &a.statistics {
+        let width = records.last().map_or(f64::NAN, |r| r.box_extent[1]);
+        out.extend(
+            super::statistics_figures::figures(st, width)
+                .into_iter()
+                .map(|(name, caption, panels)| JobFigure {
+                    name,
+                    caption,
+                    plot: Plot::Series(panels),
+                }),
+        );
     }
     let labels =
         crate::analysis::snapshot_labels(&records.iter().map(|r| (*r).clone()).collect::<Vec<_>>());
@@ -651,6 +690,106 @@ fn draw_curves<DB: DrawingBackend>(
             .iter()
             .map(|p| Circle::new((p.0, p.1), 2, colour.filled())),
     )?;
+    Ok(())
+}
+
+/// Colours of the curves of a series panel, in order.
+const SERIES_COLOURS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+];
+
+fn draw_series_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &SeriesPanel,
+) -> DrawResult<DB> {
+    let all = || {
+        panel
+            .series
+            .iter()
+            .flat_map(|(_, p)| p.iter())
+            .chain(panel.reference.iter().flat_map(|(_, p)| p.iter()))
+    };
+    let log = panel.log_y;
+    // x spans the curves (the reference is drawn where they are)
+    let xs = panel.series.iter().flat_map(|(_, p)| p.iter().map(|q| q.0));
+    let (x0, x1) = span(xs, false)
+        .or_else(|| span(all().map(|p| p.0), false))
+        .unwrap_or((0.0, 1.0));
+    // a log axis shows down to 1e-4 of the largest value (the VDFs' far tails are noise)
+    let ys: Vec<f64> = panel
+        .series
+        .iter()
+        .flat_map(|(_, p)| p.iter().map(|q| q.1))
+        .collect();
+    let top = ys
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    let (y0, y1) = span(all().map(|p| p.1).filter(|v| !log || *v >= top * 1e-4), log)
+        .unwrap_or(if log { (1e-3, 1.0) } else { (0.0, 1.0) });
+    let keep = |v: f64| v.is_finite() && (!log || (v > 0.0 && v >= y0));
+    macro_rules! chart {
+        ($yr:expr) => {{
+            let mut chart = ChartBuilder::on(area)
+                .caption(panel.title.clone(), ("sans-serif", 14))
+                .margin(8)
+                .x_label_area_size(34)
+                .y_label_area_size(56)
+                .build_cartesian_2d(x0..x1, $yr)?;
+            chart
+                .configure_mesh()
+                .x_desc(panel.x_label.clone())
+                .x_labels(6)
+                .y_labels(6)
+                .x_label_formatter(&tick)
+                .y_label_formatter(&tick)
+                .label_style(("sans-serif", 11))
+                .draw()?;
+            if let Some((name, points)) = &panel.reference {
+                let line: Vec<(f64, f64)> = points
+                    .iter()
+                    .copied()
+                    .filter(|p| keep(p.1) && p.0 >= x0 && p.0 <= x1)
+                    .collect();
+                chart
+                    .draw_series(DashedLineSeries::new(line, 6, 4, BLACK.stroke_width(1)))?
+                    .label(name.clone())
+                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
+            }
+            for (k, (name, points)) in panel.series.iter().enumerate() {
+                let colour = SERIES_COLOURS[k % SERIES_COLOURS.len()];
+                let line: Vec<(f64, f64)> = points
+                    .iter()
+                    .copied()
+                    .filter(|p| p.0.is_finite() && keep(p.1))
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(line, colour.stroke_width(2)))?
+                    .label(name.clone())
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                    });
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 10))
+                .draw()?;
+        }};
+    }
+    if log {
+        chart!((y0..y1).log_scale())
+    } else {
+        chart!(y0..y1)
+    }
     Ok(())
 }
 

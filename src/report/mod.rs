@@ -6,6 +6,7 @@
 
 pub mod html;
 pub mod job_figures;
+mod statistics_figures;
 
 use crate::analysis::Analysis;
 use crate::sweep::phase::{PhaseDiagram, choose_axes, swept_in, title};
@@ -151,6 +152,91 @@ pub fn diagram(
     }))
 }
 
+/// The statistics' columns compared across a sweep (thesis Figs. 3.8, 3.10, 3.11, 3.21
+/// insets): each against e, one curve per beta.
+pub const COMPARED: &[(&str, &str)] = &[
+    (
+        "slip_velocity",
+        "translational slip U_x at the walls (thesis Fig. 3.10a)",
+    ),
+    (
+        "slip_rotational",
+        "rotational slip omega_z at the walls, sign-folded (Fig. 3.10b)",
+    ),
+    ("wall_temperature", "T at the walls (Fig. 3.10c)"),
+    (
+        "wall_rotational_temperature",
+        "theta at the walls (Fig. 3.10d)",
+    ),
+    ("knudsen_centre", "Kn in the centre (Fig. 3.8)"),
+    (
+        "lambda_centre",
+        "Lambda(0), orientational correlation in the centre (Fig. 3.21 insets; 1/3: molecular gas)",
+    ),
+    (
+        "lambda_mean",
+        "mean of Lambda(y) over the slabs (Fig. 3.21 insets)",
+    ),
+    ("contact_value", "g(d+) over all slabs"),
+];
+
+/// A figure comparing one column across the sweep: its caption and PNG.
+pub struct Comparison {
+    pub name: String,
+    pub caption: String,
+    pub png: Vec<u8>,
+}
+
+/// The comparison figures of a sweep with statistics: each column of [`COMPARED`] against the
+/// restitution (else the first swept number), one curve per value of the roughness (else of
+/// the other swept parameter); none without statistics or without a swept number.
+pub fn statistics_comparisons(sweep: &Sweep, jobs: &[GatheredJob]) -> Vec<Comparison> {
+    if !tables::has_statistics(sweep) {
+        return Vec::new();
+    }
+    let engine = sweep.engine();
+    let swept = swept_in(sweep);
+    let numeric = |name: &str| {
+        engine
+            .param(name)
+            .is_some_and(|d| !matches!(d.kind, crate::engine::declare::ParamKind::Choice(_)))
+    };
+    let Some(x) = swept
+        .iter()
+        .find(|s| **s == "restitution")
+        .or_else(|| swept.iter().find(|s| numeric(s)))
+        .map(|s| s.to_string())
+    else {
+        return Vec::new();
+    };
+    let by = swept
+        .iter()
+        .find(|s| **s == "roughness" && **s != x)
+        .or_else(|| swept.iter().find(|s| **s != x))
+        .map(|s| s.to_string());
+    COMPARED
+        .iter()
+        .filter_map(|(y, what)| {
+            let plot =
+                crate::sweep::curves::CurvePlot::build(engine, jobs, &x, y, by.as_deref()).ok()?;
+            if plot.series.iter().all(|s| s.points.is_empty()) {
+                return None;
+            }
+            let png = plot.png().ok()?;
+            Some(Comparison {
+                name: y.to_string(),
+                caption: format!(
+                    "{what} against {x}{}; hollow points: not steady.",
+                    by.as_ref()
+                        .map(|b| format!(", one curve per {b}"))
+                        .unwrap_or_default()
+                ),
+                png,
+            })
+        })
+        .collect()
+}
+
 /// Write the report of a sweep into its results directory (`report.html`); its path.
 pub fn write_report(
     sweep: &Sweep,
@@ -161,7 +247,8 @@ pub fn write_report(
     let jobs = tables::collect(sweep, dirs);
     let diagram = diagram(sweep, &jobs, x, y)?;
     let views: Vec<JobView> = jobs.par_iter().map(|j| view_job(dirs, j)).collect();
-    let page = html::page(sweep, dirs, diagram.as_ref(), &views);
+    let comparisons = statistics_comparisons(sweep, &jobs);
+    let page = html::page(sweep, dirs, diagram.as_ref(), &views, &comparisons);
     std::fs::create_dir_all(&dirs.tables)
         .map_err(|e| anyhow::anyhow!("{}: {e}", dirs.tables.display()))?;
     let path = dirs.tables.join(REPORT_FILE);

@@ -68,12 +68,15 @@ pub struct CurvePlot {
     pub not_done: usize,
 }
 
-/// The numeric summary columns of an engine's jobs table (what `--y` may name).
+/// The numeric summary columns of an engine's jobs table (what `--y` may name), with the
+/// statistics' columns where its analysis has them (jobs without statistics give no points).
 pub fn numeric_columns(engine: &EngineDef) -> Vec<String> {
     use crate::analysis::columns::ColumnKind;
-    engine
-        .analysis
-        .summary_columns()
+    let mut columns = engine.analysis.summary_columns();
+    if engine.analysis.supports_statistics() {
+        columns.extend(crate::analysis::statistics::tables::summary_columns());
+    }
+    columns
         .into_iter()
         .filter(|(_, k)| matches!(k, ColumnKind::F64 | ColumnKind::I64))
         .map(|(n, _)| n)
@@ -286,6 +289,11 @@ impl CurvePlot {
             Some(by) => format!("plot-{}-{}-by-{by}", self.y, self.x),
             None => format!("plot-{}-{}", self.y, self.x),
         }
+    }
+
+    /// The plot as PNG bytes (pages that inline it).
+    pub fn png(&self) -> anyhow::Result<Vec<u8>> {
+        crate::figure::render_png((820, 560), |root| self.draw(root))
     }
 
     /// Write the plot as PNG.

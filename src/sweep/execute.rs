@@ -61,13 +61,26 @@ pub fn run_job(
         Some(cp) => {
             let (log, records) = RecordLog::resume(dir, &job.id.0, &cp)?;
             store::log(dir, &format!("resume at snapshot {} {build}", cp.snapshot))?;
-            let engine: Box<dyn Engine> = engine::restore(&cp.engine)?;
+            let mut engine: Box<dyn Engine> = engine::restore(&cp.engine)?;
+            // free paths are not part of the engine's state: switched on again (the
+            // checkpoint was taken right after a snapshot had emptied the tally)
+            if let Some(slabs) = analyser.free_path_slabs() {
+                engine.record_free_paths(slabs);
+            }
             (engine, records, log, cp.snapshot, cp.wall_seconds)
         }
         None => {
             let mut engine = job.params.build_engine()?;
+            if let Some(slabs) = analyser.free_path_slabs() {
+                engine.record_free_paths(slabs);
+            }
             let snap = engine.snapshot();
-            let records = vec![analyser.record(&snap).map_err(anyhow::Error::msg)?];
+            let paths = engine.take_free_paths();
+            let records = vec![
+                analyser
+                    .record_with(&snap, 0, paths)
+                    .map_err(anyhow::Error::msg)?,
+            ];
             let mut log = RecordLog::start(dir, &job.id.0)?;
             log.append(&records[0])?;
             log.sync()?;
@@ -113,7 +126,10 @@ pub fn run_job(
         k += 1;
         engine.advance(StopAt::on(clock, run.snapshot_target(k)))?;
         let snap = engine.snapshot();
-        let record = analyser.record(&snap).map_err(anyhow::Error::msg)?;
+        let paths = engine.take_free_paths();
+        let record = analyser
+            .record_with(&snap, k, paths)
+            .map_err(anyhow::Error::msg)?;
         log.append(&record)?;
         records.push(record);
         if k % run.checkpoint_every == 0 || k == total {

@@ -9,11 +9,13 @@
 //! [`InId::AwayFromDefault`] only where they differ from the default, and never those marked
 //! [`InId::Never`] (derived ones, like phi from N); `run` holds the run length on its clock
 //! (`collisions_per_particle`, `steps` or `time`), `snapshot_interval` and, only when set,
-//! `until_steady` (`{"window":W}`); `analysis` holds
+//! `until_steady` (`{"window":W}`) and, only when set, `statistics` (the statistics settings
+//! that differ from their defaults, `{}` when none does); `analysis` holds
 //! only the analysis settings that differ from their defaults. The id is the first 16 hex
 //! digits of SHA-256 of that text. So adding a new optional parameter (declared with
 //! `AwayFromDefault`) or a new analysis setting leaves every existing id unchanged.
 
+use crate::analysis::statistics::{StatisticsPlan, StatisticsSettings};
 use crate::engine::declare::InId;
 use crate::engine::{Clock, EngineDef, EngineError, ParamDef, ParamValue, Values, registry};
 use serde::{Deserialize, Serialize};
@@ -60,6 +62,10 @@ pub struct RunSettings {
     /// snapshots per milestone window (default [`DEFAULT_MILESTONE_WINDOW`])
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub milestone_window: Option<u32>,
+    /// the thesis' statistics (VDFs, g(r), Lambda, velocity correlations, free paths, wall
+    /// values): opt-in, see [`crate::analysis::statistics`]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub statistics: Option<StatisticsSettings>,
 }
 
 /// Snapshots per milestone window unless the run says otherwise.
@@ -215,6 +221,42 @@ impl RunSettings {
                     clock.key()
                 ),
             ));
+        }
+        if let Some(st) = &self.statistics {
+            if !engine.analysis.supports_statistics() {
+                return Err((
+                    "statistics",
+                    format!(
+                        "the {} engine's snapshots carry no particles: the statistics need \
+                         particles with velocities (engines whose snapshots carry them: {})",
+                        engine.name,
+                        registry::ENGINES
+                            .iter()
+                            .filter(|e| e.analysis.supports_statistics())
+                            .map(|e| e.name)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ));
+            }
+            st.validate().map_err(|(key, m)| {
+                (
+                    "statistics",
+                    format!("{key}: {m}; keys: {}", crate::analysis::statistics::KEYS),
+                )
+            })?;
+            if let Some(w) = st.window
+                && w > length
+            {
+                return Err((
+                    "statistics",
+                    format!(
+                        "window = {w} is out of range: allowed 0 < window <= {} ({length}), in {}",
+                        clock.key(),
+                        clock.key()
+                    ),
+                ));
+            }
         }
         if self.checkpoint_every == 0 {
             return Err((
@@ -418,13 +460,22 @@ impl JobParams {
         id_of_canonical(&self.canonical())
     }
 
-    /// The analysis of this job's engine with the job's settings (and the run's milestones).
+    /// The analysis of this job's engine with the job's settings, the run's milestones and its
+    /// statistics, when the run asks for them.
     pub fn analyser(&self) -> Result<crate::analysis::Analyser, String> {
         let mut analyser = self.def().analysis.analyser(&self.analysis)?;
         if let crate::analysis::Analyser::Structure(settings) = &mut analyser {
             settings.milestones = self.run.milestone_plan(self.def());
         }
-        Ok(analyser)
+        Ok(match &self.run.statistics {
+            Some(s) => analyser.with_statistics(StatisticsPlan::for_run(
+                s.clone(),
+                self.run.clock(),
+                self.run.length(),
+                self.run.until_steady.is_some(),
+            )),
+            None => analyser,
+        })
     }
 }
 
@@ -467,6 +518,9 @@ pub fn canonical_with(table: &[ParamDef], job: &JobParams) -> String {
             .into_iter()
             .collect();
         run.insert("until_steady".to_string(), Value::Object(rule));
+    }
+    if let Some(s) = &job.run.statistics {
+        run.insert("statistics".to_string(), Value::Object(s.non_default()));
     }
     let mut top = BTreeMap::new();
     top.insert(

@@ -76,16 +76,43 @@ pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
 /// The tables an engine's sweeps write and their columns with their types, in order (the
 /// schema is fixed by the declarations: the same whether no job or every job is done).
 pub fn schema(engine: &EngineDef) -> Vec<(String, Vec<(String, ColumnKind)>)> {
+    schema_of(engine, false)
+}
+
+/// The tables of an engine's sweeps with statistics (`run.statistics`): the plain ones, the
+/// statistics' columns of `jobs.parquet` and the statistics tables.
+pub fn schema_with_statistics(engine: &EngineDef) -> Vec<(String, Vec<(String, ColumnKind)>)> {
+    schema_of(engine, engine.analysis.supports_statistics())
+}
+
+fn schema_of(engine: &EngineDef, statistics: bool) -> Vec<(String, Vec<(String, ColumnKind)>)> {
     let columns = |cols: Vec<Column>| {
         cols.iter()
             .map(|c| (c.name().to_string(), c.kind()))
             .collect::<Vec<_>>()
     };
-    let mut out = vec![("jobs".to_string(), columns(jobs_table(engine, &[])))];
-    for table in engine.analysis.tables() {
+    let mut out = vec![(
+        "jobs".to_string(),
+        columns(jobs_table(engine, &[], statistics)),
+    )];
+    for table in tables_of(engine, statistics) {
         out.push((table.name.to_string(), columns(rows_table(table, &[]))));
     }
     out
+}
+
+/// The row tables a sweep writes: its analysis', and the statistics tables when it has them.
+fn tables_of(engine: &EngineDef, statistics: bool) -> Vec<&'static TableDef> {
+    let mut tables: Vec<&'static TableDef> = engine.analysis.tables().iter().collect();
+    if statistics {
+        tables.extend(crate::analysis::statistics::tables::TABLES);
+    }
+    tables
+}
+
+/// Whether a sweep writes the statistics' tables and columns.
+pub fn has_statistics(sweep: &Sweep) -> bool {
+    sweep.spec.run.statistics.is_some() && sweep.engine().analysis.supports_statistics()
 }
 
 /// Write the tables of a sweep into its tables directory: `jobs.parquet` and the row tables
@@ -110,6 +137,7 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
     std::fs::create_dir_all(&staging)?;
     let metadata = file_metadata(sweep, &generation);
     let mut names = vec!["jobs".to_string()];
+    let statistics = has_statistics(sweep);
     let written = (|| -> anyhow::Result<()> {
         let describe = |table: &'static str| {
             move |column: &str| {
@@ -121,11 +149,11 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
         };
         parquet::write(
             &staging.join("jobs.parquet"),
-            jobs_table(engine, &jobs),
+            jobs_table(engine, &jobs, statistics),
             &metadata,
             &describe("jobs"),
         )?;
-        for table in engine.analysis.tables() {
+        for table in tables_of(engine, statistics) {
             parquet::write(
                 &staging.join(format!("{}.parquet", table.name)),
                 rows_table(table, &jobs),
@@ -254,7 +282,7 @@ pub fn final_clock_column(clock: Clock) -> String {
 
 /// The columns of `jobs.parquet`: plan, parameters, state, the analysis summary (null where a
 /// job is not done), counters and their ratios, final clocks, cost.
-fn jobs_table(engine: &EngineDef, jobs: &[GatheredJob]) -> Vec<Column> {
+fn jobs_table(engine: &EngineDef, jobs: &[GatheredJob], statistics: bool) -> Vec<Column> {
     let column = |name: &str, kind: ColumnKind, cell: &dyn Fn(&GatheredJob) -> Cell| {
         Column::from_cells(name, kind, jobs.iter().map(cell))
     };
@@ -324,6 +352,19 @@ fn jobs_table(engine: &EngineDef, jobs: &[GatheredJob]) -> Vec<Column> {
                 None => Cell::Null,
             }),
         ));
+    }
+    if statistics {
+        use crate::analysis::statistics::tables::summary_columns;
+        for (name, kind) in summary_columns() {
+            cols.push(Column::from_cells(
+                name.as_str(),
+                kind,
+                summaries.iter().map(|s| match s {
+                    Some(s) => json_cell(s.get(&name), kind),
+                    None => Cell::Null,
+                }),
+            ));
+        }
     }
     for counter in engine.counters {
         cols.push(done(counter.name, ColumnKind::I64, &|x| {

@@ -4,8 +4,9 @@
 //! of every engine with its type and a unit.
 //!
 //! The document's tables are rows `| names | type | unit | meaning |` (several names of one row
-//! separated by ", ") under headings `## <table>.parquet ...` and, for engine-specific columns,
-//! `### <engine>` or a table heading that names engines in parentheses.
+//! separated by ", ") under headings `## <table>.parquet ...` (or `### <table>.parquet ...`)
+//! and, for engine-specific columns, `### <engine>` or a table heading that names engines in
+//! parentheses.
 
 use std::sync::OnceLock;
 
@@ -54,7 +55,10 @@ pub fn parse(text: &str) -> Vec<ColumnDoc> {
     let mut out = Vec::new();
     let (mut table, mut engines) = (String::new(), Vec::<String>::new());
     for line in text.lines() {
-        if let Some(heading) = line.strip_prefix("## ") {
+        let heading = line
+            .strip_prefix("## ")
+            .or_else(|| line.strip_prefix("### ").filter(|h| h.contains(".parquet")));
+        if let Some(heading) = heading {
             table = heading
                 .split(".parquet")
                 .next()
@@ -99,9 +103,11 @@ mod tests {
 
     #[test]
     fn rows_take_their_table_and_engines_from_the_headings() {
-        let text = "## jobs.parquet: one row per job\n| column | type | unit | meaning |\n| --- | --- | --- | --- |\n| job_id | str | - | the id |\n### lga\n| a, b | f64 | sites | two |\n## profiles.parquet (edmd, dsmc): x\n| value | f64 | 1 | v |\n";
+        let text = "## jobs.parquet: one row per job\n| column | type | unit | meaning |\n| --- | --- | --- | --- |\n| job_id | str | - | the id |\n### lga\n| a, b | f64 | sites | two |\n## profiles.parquet (edmd, dsmc): x\n| value | f64 | 1 | v |\n## Statistics\n### g.parquet: g(r)\n| r | f64 | d | distance |\n";
         let docs = parse(text);
-        assert_eq!(docs.len(), 4);
+        assert_eq!(docs.len(), 5);
+        assert_eq!((docs[4].table.as_str(), docs[4].unit.as_str()), ("g", "d"));
+        assert!(docs[4].engines.is_empty());
         assert_eq!(docs[1].name, "a");
         assert_eq!(docs[2].name, "b");
         assert_eq!(docs[2].engines, ["lga"]);

@@ -130,6 +130,20 @@ impl Engine for EdmdEngine {
         );
         checkpoint::encode(&self.state())
     }
+
+    fn record_free_paths(&mut self, slabs: usize) -> bool {
+        let g = self.params.geometry;
+        self.free_paths = Some(Box::new(crate::engine::FreePathTally::new(
+            slabs, g.width, !g.walls,
+        )));
+        true
+    }
+
+    fn take_free_paths(&mut self) -> Option<crate::engine::FreePathTally> {
+        let paths = self.free_paths.as_deref_mut()?;
+        let empty = paths.emptied();
+        Some(std::mem::replace(paths, empty))
+    }
 }
 
 #[inline(always)]

@@ -41,6 +41,16 @@ impl EdmdEngine {
     /// Pair collision of i and j (both at `now`), with the TC model.
     pub(super) fn collide_pair(&mut self, i: usize, j: usize) {
         let t = self.now;
+        if let Some(paths) = self.free_paths.as_deref_mut() {
+            let g = self.params.gravity;
+            for p in [i, j] {
+                let tau = t - self.last_collision[p];
+                if tau.is_finite() {
+                    let k = &self.kin[p];
+                    paths.add_flight(k.position[1], k.velocity, tau, g, false);
+                }
+            }
+        }
         let r = self.separation(i, j);
         let k = -r / r.norm(); // unit vector from i to j
         let tc = self.params.tc;
@@ -98,6 +108,13 @@ impl EdmdEngine {
         } else {
             y.max(collision::RADIUS)
         };
+        if let Some(paths) = self.free_paths.as_deref_mut() {
+            let tau = self.now - self.last_collision[i];
+            if tau.is_finite() {
+                let k = &self.kin[i];
+                paths.add_flight(k.position[1], k.velocity, tau, self.params.gravity, true);
+            }
+        }
         let k = Vector3::new(0.0, if upper { 1.0 } else { -1.0 }, 0.0);
         let sphere = SphereVelocity {
             linear: self.kin[i].velocity.into(),

@@ -183,6 +183,8 @@ pub struct EdmdEngine {
     synchronised: bool,
     /// physical events, when recording is switched on (tests)
     log: Option<Vec<PhysicalEvent>>,
+    /// free paths ended since they were last taken, when statistics are on
+    free_paths: Option<Box<crate::engine::FreePathTally>>,
 }
 
 impl EdmdEngine {
@@ -313,6 +315,7 @@ impl EdmdEngine {
             gravity_work: state.gravity_work,
             synchronised: true,
             log: None,
+            free_paths: None,
             params: state.params,
         };
         engine.rebuild();
