@@ -114,7 +114,7 @@ impl Default for LatticeSettings {
             false_alarm: 0.01,
             transient_fraction: 0.1,
             spacetime_rows: 500,
-            spacetime_periods: 8.0,
+            spacetime_periods: 4.0,
         }
     }
 }
@@ -803,8 +803,8 @@ fn spacetime_steps(analysis: &LatticeAnalysis) -> Vec<u64> {
     steps
 }
 
-/// What time the space-time picture shows, e.g. "steps 2617040 .. 2621430, the last 4400
-/// steps of the run, a record every 10 steps, 8.0 periods of the 550-step peak".
+/// What time the space-time picture shows, e.g. "steps 2617040 .. 2621430 (the run's last
+/// 4390 steps), a record every 10 steps, 8.0 periods of the 550-step peak".
 pub fn spacetime_span(analysis: &LatticeAnalysis) -> String {
     let steps = spacetime_steps(analysis);
     let (Some(&first), Some(&last)) = (steps.first(), steps.last()) else {
@@ -815,7 +815,7 @@ pub fn spacetime_span(analysis: &LatticeAnalysis) -> String {
         [a, b, ..] => b - a,
         _ => 0,
     };
-    let mut text = format!("steps {first} .. {last}, the last {span} steps of the run");
+    let mut text = format!("steps {first} .. {last} (the run's last {span} steps)");
     if every > 0 {
         let record = analysis.summary.sample_interval;
         if record > 0 && every != record {
@@ -936,7 +936,7 @@ pub fn draw_spacetime<DB: DrawingBackend>(
     let lines = [
         format!("time -> {}", spacetime_span(analysis)),
         format!(
-            "{rows} bins along the pipe, top to bottom (gravity down); gray: {lo} (white) .. {hi} \
+            "{rows} bins of the pipe top to bottom (gravity down); gray: {lo} (white) .. {hi} \
              (black) particles per bin"
         ),
     ];

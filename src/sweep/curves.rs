@@ -17,6 +17,7 @@ use crate::figure::{Scale, Sizing};
 use plotters::coord::Shift;
 use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -540,9 +541,18 @@ impl CurvePlot {
                 chart.draw_series(std::iter::once(Circle::new((p.x, p.y), radius, style)))?;
                 if p.disagrees() {
                     any_disagree = true;
+                    // beside the point, on the side towards the middle of the plot
+                    let (px, _) = chart.plotting_area().map_coordinate(&(p.x, p.y));
+                    let span = chart.plotting_area().get_pixel_range().0;
+                    let (dx, h) = if px < (span.start + span.end) / 2 {
+                        (s.px(7), HPos::Left)
+                    } else {
+                        (-s.px(7), HPos::Right)
+                    };
+                    let style =
+                        TextStyle::from(s.font(DISAGREE_SIZE)).pos(Pos::new(h, VPos::Center));
                     chart.draw_series(std::iter::once(
-                        EmptyElement::at((p.x, p.y))
-                            + Text::new(DISAGREE, (s.px(5), -s.px(24)), s.font(DISAGREE_SIZE)),
+                        EmptyElement::at((p.x, p.y)) + Text::new(DISAGREE, (dx, 0), style),
                     ))?;
                 }
             }
@@ -563,14 +573,34 @@ impl CurvePlot {
                 .legend(move |(x, y)| {
                     Text::new(
                         DISAGREE,
-                        (x + key / 2 - s.px(6), y - s.px(12)),
-                        s.font(DISAGREE_SIZE),
+                        (x + key / 2, y),
+                        TextStyle::from(s.font(DISAGREE_SIZE))
+                            .pos(Pos::new(HPos::Center, VPos::Center)),
                     )
                 });
         }
+        let mut labels: Vec<String> = self
+            .series
+            .iter()
+            .map(|series| match &self.by {
+                Some(by) => format!(
+                    "{} = {}",
+                    self.by_symbol.as_deref().unwrap_or(by),
+                    series.name
+                ),
+                None => series.name.clone(),
+            })
+            .collect();
+        if any_invalid {
+            labels.push("hollow: not steady (not a result)".into());
+        }
+        if any_disagree {
+            labels.push(POINT_DISAGREE_LEGEND.into());
+        }
+        let corner = self.legend_corner(chart, &labels, s);
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(corner)
             .margin(s.px(10))
             .legend_area_size(s.px(30))
             .background_style(WHITE.mix(0.85))
@@ -578,6 +608,84 @@ impl CurvePlot {
             .label_font(s.font(LABEL))
             .draw()?;
         Ok(())
+    }
+
+    /// Where in the plot the legend box (entries `labels`) covers the fewest points and
+    /// pieces of line: a corner, else the middle of a side, else the centre; upper right
+    /// first.
+    fn legend_corner<'a, DB, CT>(
+        &self,
+        chart: &ChartContext<'a, DB, CT>,
+        labels: &[String],
+        s: Scale,
+    ) -> SeriesLabelPosition
+    where
+        DB: DrawingBackend + 'a,
+        CT: CoordTranslate<From = (f64, f64)>,
+    {
+        use SeriesLabelPosition as At;
+        let (xs, ys) = chart.plotting_area().get_pixel_range();
+        // the box: key area, widest label and margins; a line per entry
+        let widest = labels
+            .iter()
+            .map(|l| crate::figure::text::width(l, LABEL))
+            .fold(0.0, f64::max);
+        let (w, h) = (
+            s.px(widest + 30.0 + 30.0),
+            s.px(20.0 + 18.0 * labels.len() as f64),
+        );
+        // the points and 16 samples along each segment between drawn points, device pixels
+        let mut ink: Vec<(i32, i32)> = Vec::new();
+        for series in &self.series {
+            let at: Vec<(i32, i32)> = series
+                .points
+                .iter()
+                .filter(|p| {
+                    p.y.is_finite() && (!self.log_x || p.x > 0.0) && (!self.log_y || p.y > 0.0)
+                })
+                .map(|p| chart.plotting_area().map_coordinate(&(p.x, p.y)))
+                .collect();
+            for pair in at.windows(2) {
+                for k in 1..16 {
+                    let t = f64::from(k) / 16.0;
+                    let lerp = |a: i32, b: i32| a + (t * f64::from(b - a)).round() as i32;
+                    ink.push((lerp(pair[0].0, pair[1].0), lerp(pair[0].1, pair[1].1)));
+                }
+            }
+            ink.extend(at);
+        }
+        let span = |range: &std::ops::Range<i32>, size: i32, side: i8| match side {
+            -1 => (range.start, range.start + size),
+            1 => (range.end - size, range.end),
+            _ => {
+                let mid = (range.start + range.end) / 2;
+                (mid - size / 2, mid + size / 2)
+            }
+        };
+        let pad = s.px(8);
+        let covered = |horizontal: i8, vertical: i8| {
+            let (x0, x1) = span(&xs, w, horizontal);
+            let (y0, y1) = span(&ys, h, vertical);
+            ink.iter()
+                .filter(|(x, y)| {
+                    (x0 - pad..=x1 + pad).contains(x) && (y0 - pad..=y1 + pad).contains(y)
+                })
+                .count()
+        };
+        [
+            (1, -1, At::UpperRight),
+            (-1, -1, At::UpperLeft),
+            (1, 1, At::LowerRight),
+            (-1, 1, At::LowerLeft),
+            (1, 0, At::MiddleRight),
+            (-1, 0, At::MiddleLeft),
+            (0, -1, At::UpperMiddle),
+            (0, 1, At::LowerMiddle),
+            (0, 0, At::MiddleMiddle),
+        ]
+        .into_iter()
+        .min_by_key(|(h, v, _)| covered(*h, *v))
+        .map_or(At::UpperRight, |c| c.2)
     }
 }
 
