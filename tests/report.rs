@@ -215,14 +215,14 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
     let done_dir = dirs.job_dir(&sweep.plan[0].id);
     let result = store::read_result(&done_dir).unwrap();
     let records = store::records_so_far(&done_dir).unwrap();
-    let drawn = job_figures::figures(&result.analysis, &records);
+    let drawn = job_figures::figures(&sweep.plan[0], &result.analysis, &records);
     assert_eq!(
         drawn.iter().map(|f| f.name).collect::<Vec<_>>(),
         figures.to_vec()
     );
     assert_eq!(
         std::fs::read(done_dir.join("figures/energy.png")).unwrap(),
-        drawn[0].png().unwrap()
+        drawn[0].png(&granflow::figure::Sizing::default()).unwrap()
     );
 
     // the markers the diagram must show: the labels of its cells

@@ -109,7 +109,7 @@ impl AnalysisKind {
             }
             AnalysisKind::Lattice => {
                 let s: LatticeSettings = serde_json::from_value(given).map_err(|e| {
-                    format!("{e}; allowed keys: bin_length, region_bin, segments, fit_min, fit_max, false_alarm, transient_fraction, spacetime_rows")
+                    format!("{e}; allowed keys: bin_length, region_bin, segments, fit_min, fit_max, false_alarm, transient_fraction, spacetime_rows, spacetime_periods")
                 })?;
                 s.validate()?;
                 Ok(Analyser::Lattice(s))
@@ -635,18 +635,6 @@ impl Analysis {
                 },
                 0,
             ),
-        }
-    }
-
-    /// Write the analysis' per-job figures into a job directory (`<name>.png`); the names
-    /// written.
-    pub fn write_figures(&self, dir: &std::path::Path) -> anyhow::Result<Vec<String>> {
-        match self {
-            Analysis::Structure(_) | Analysis::Rarefied(_) => Ok(Vec::new()),
-            Analysis::Lattice(a) => {
-                super::lattice::plot_spacetime(a, &dir.join("spacetime.png"))?;
-                Ok(vec!["spacetime.png".into()])
-            }
         }
     }
 

@@ -96,8 +96,11 @@ pub struct LatticeSettings {
     pub false_alarm: f64,
     /// fraction of the records at the start left out of all statistics (the transient)
     pub transient_fraction: f64,
-    /// most rows of the subsampled space-time table
+    /// most records (rows) of the space-time table
     pub spacetime_rows: usize,
+    /// periods of the spectrum's peak the space-time table covers: a contiguous window of
+    /// records at the end of the run (see [`spacetime`])
+    pub spacetime_periods: f64,
 }
 
 impl Default for LatticeSettings {
@@ -111,6 +114,7 @@ impl Default for LatticeSettings {
             false_alarm: 0.01,
             transient_fraction: 0.1,
             spacetime_rows: 500,
+            spacetime_periods: 4.0,
         }
     }
 }
@@ -145,6 +149,12 @@ impl LatticeSettings {
         }
         if self.spacetime_rows == 0 {
             return Err("spacetime_rows = 0 is not allowed: at least 1 row".into());
+        }
+        if !(self.spacetime_periods.is_finite() && self.spacetime_periods > 0.0) {
+            return Err(format!(
+                "spacetime_periods = {} is not allowed: a number of periods > 0",
+                self.spacetime_periods
+            ));
         }
         Ok(())
     }
@@ -212,7 +222,7 @@ pub struct FrequencyPower {
     pub fitted: bool,
 }
 
-/// One cell of the subsampled space-time table.
+/// One cell of the space-time table.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SpacetimeCell {
     pub step: u64,
@@ -265,7 +275,7 @@ pub struct LatticeAnalysis {
     pub summary: LatticeSummary,
     /// P(f) for k = 1 .. M/2 (empty without a spectrum)
     pub spectrum: Vec<FrequencyPower>,
-    /// counts of every bin at up to `spacetime_rows` records, evenly subsampled
+    /// counts of every bin at the records of a window at the end of the run ([`spacetime`])
     pub spacetime: Vec<SpacetimeCell>,
 }
 
@@ -618,7 +628,11 @@ pub fn analyse(records: &[LatticeRecord], settings: &LatticeSettings) -> Lattice
         return not_enough("records of different or empty lattices".into(), records);
     }
     let mut out = not_enough(String::new(), records);
-    out.spacetime = spacetime(records, settings.spacetime_rows);
+    // the space-time table once the spectrum's peak period is known (or not)
+    let finish = |mut out: LatticeAnalysis| {
+        out.spacetime = spacetime(records, settings, out.summary.peak_period);
+        out
+    };
     let s = &mut out.summary;
 
     // bin-density fluctuations against a random arrangement
@@ -660,14 +674,14 @@ pub fn analyse(records: &[LatticeRecord], settings: &LatticeSettings) -> Lattice
             .any(|p| p[1].step.saturating_sub(p[0].step) != dt)
     {
         s.note = "records are not equally spaced in steps: no spectrum".into();
-        return out;
+        return finish(out);
     }
     if settings.region_bin >= nb {
         s.note = format!(
             "region_bin {} is beyond the {nb} bins: no spectrum",
             settings.region_bin
         );
-        return out;
+        return finish(out);
     }
     let x: Vec<f64> = used
         .iter()
@@ -686,7 +700,7 @@ pub fn analyse(records: &[LatticeRecord], settings: &LatticeSettings) -> Lattice
             settings.fit_min,
             (SEED_FREQUENCY_UNIT / (settings.fit_min * dt as f64)).ceil()
         );
-        return out;
+        return finish(out);
     }
     let freq: Vec<f64> = (1..=power.len()).map(to_seed).collect();
     let fit = fit_spectrum(&freq, &power, settings.segments, settings);
@@ -737,13 +751,39 @@ pub fn analyse(records: &[LatticeRecord], settings: &LatticeSettings) -> Lattice
         if red { "above" } else { "not above" },
         s.alpha_z_threshold
     );
-    out
+    finish(out)
 }
 
-/// Every bin of up to `rows` records, evenly subsampled (always including the first).
-fn spacetime(records: &[LatticeRecord], rows: usize) -> Vec<SpacetimeCell> {
-    let stride = records.len().div_ceil(rows.max(1)).max(1);
-    records
+/// The space-time table: every bin at the records of a window at the end of the run. The
+/// window is contiguous at the record interval and `spacetime_periods` periods of the
+/// spectrum's peak long (`peak_period` in steps; at least 20 records), so that the waves the
+/// label speaks of show as bands; a window of more than `spacetime_rows` records keeps every
+/// n-th (the fewest n that fit). Without a peak period the window is the last
+/// `spacetime_rows` records. (Before, the table spread `spacetime_rows` records over the whole
+/// run: every ~5000 steps of a spectrum run, far apart for waves of ~550 steps.)
+pub fn spacetime(
+    records: &[LatticeRecord],
+    settings: &LatticeSettings,
+    peak_period: f64,
+) -> Vec<SpacetimeCell> {
+    if records.is_empty() {
+        return Vec::new();
+    }
+    let rows = settings.spacetime_rows.max(1);
+    let dt = match records {
+        [.., a, b] => b.step.saturating_sub(a.step),
+        _ => 0,
+    };
+    let wanted = if peak_period.is_finite() && peak_period > 0.0 && dt > 0 {
+        ((settings.spacetime_periods * peak_period / dt as f64).ceil() as usize).max(20)
+    } else {
+        rows
+    }
+    .min(records.len());
+    let stride = wanted.div_ceil(rows).max(1);
+    let count = wanted.div_ceil(stride);
+    let start = records.len() - 1 - (count - 1) * stride;
+    records[start..]
         .iter()
         .step_by(stride)
         .flat_map(|r| {
@@ -756,51 +796,104 @@ fn spacetime(records: &[LatticeRecord], rows: usize) -> Vec<SpacetimeCell> {
         .collect()
 }
 
-/// Draw the space-time picture as a PNG in the style of the seed's Fig. 1 (see
-/// [`draw_spacetime`]).
-pub fn plot_spacetime(analysis: &LatticeAnalysis, path: &Path) -> anyhow::Result<()> {
-    crate::figure::save_png(path, spacetime_size(analysis), |root| {
-        draw_spacetime(analysis, root)
-    })
+/// The steps of the space-time table's records, in order.
+fn spacetime_steps(analysis: &LatticeAnalysis) -> Vec<u64> {
+    let mut steps: Vec<u64> = analysis.spacetime.iter().map(|c| c.step).collect();
+    steps.dedup();
+    steps
 }
 
-/// Columns (records), rows (bins) and pixels per cell of the space-time picture, and the
-/// margins left, top, right, bottom.
-fn spacetime_layout(analysis: &LatticeAnalysis) -> ((usize, usize), (u32, u32), [u32; 4]) {
-    let cells = &analysis.spacetime;
-    let mut steps: Vec<u64> = cells.iter().map(|c| c.step).collect();
-    steps.dedup();
-    let nb = cells.iter().map(|c| c.bin as usize + 1).max().unwrap_or(0);
-    let (cols, rows) = (steps.len().max(1), nb.max(1));
-    // pixels per cell: at least 1, pictures at least ~400 px wide and tall
+/// What time the space-time picture shows, e.g. "steps 2617040 .. 2621430 (the run's last
+/// 4390 steps), a record every 10 steps, 8.0 periods of the 550-step peak".
+pub fn spacetime_span(analysis: &LatticeAnalysis) -> String {
+    let steps = spacetime_steps(analysis);
+    let (Some(&first), Some(&last)) = (steps.first(), steps.last()) else {
+        return "no records".into();
+    };
+    let span = last - first;
+    let every = match steps.as_slice() {
+        [a, b, ..] => b - a,
+        _ => 0,
+    };
+    let mut text = format!("steps {first} .. {last} (the run's last {span} steps)");
+    if every > 0 {
+        let record = analysis.summary.sample_interval;
+        if record > 0 && every != record {
+            text.push_str(&format!(
+                ", every {} records ({every} steps)",
+                every / record
+            ));
+        } else {
+            text.push_str(&format!(", a record every {every} steps"));
+        }
+    }
+    let period = analysis.summary.peak_period;
+    if period.is_finite() && period > 0.0 {
+        text.push_str(&format!(
+            ", {:.1} periods of the {:.0}-step peak",
+            span as f64 / period,
+            period
+        ));
+    }
+    text
+}
+/// Draw the space-time picture as a PNG in the style of the seed's Fig. 1 at its own size and
+/// 96 dpi, without a job heading (see [`draw_spacetime`]; the per-job figure adds one).
+pub fn plot_spacetime(analysis: &LatticeAnalysis, path: &Path) -> anyhow::Result<()> {
+    crate::figure::save_png(
+        path,
+        spacetime_size(analysis),
+        crate::figure::Scale::CSS,
+        |root, s| draw_spacetime(analysis, root, s),
+    )
+}
+
+/// Margins of the space-time picture around its cells (left, top, right, bottom), CSS pixels:
+/// room for the bin labels and for three lines of text below.
+const SPACETIME_MARGINS: [u32; 4] = [70, 16, 20, 78];
+
+/// Columns (records) and rows (bins) of the space-time picture.
+fn spacetime_cells(analysis: &LatticeAnalysis) -> (usize, usize) {
+    let cols = spacetime_steps(analysis).len();
+    let rows = analysis
+        .spacetime
+        .iter()
+        .map(|c| c.bin as usize + 1)
+        .max()
+        .unwrap_or(0);
+    (cols.max(1), rows.max(1))
+}
+
+/// The size of the space-time picture in CSS pixels: 1 to 8 pixels per cell, about 600 x 400
+/// of cells, at least wide enough for its text.
+pub fn spacetime_size(analysis: &LatticeAnalysis) -> (u32, u32) {
+    let (cols, rows) = spacetime_cells(analysis);
     let px = (600 / cols).clamp(1, 8) as u32;
     let py = (400 / rows).clamp(1, 8) as u32;
-    ((cols, rows), (px, py), [70, 20, 20, 50])
-}
-
-/// The size of the space-time picture in pixels.
-pub fn spacetime_size(analysis: &LatticeAnalysis) -> (u32, u32) {
-    let ((cols, rows), (px, py), [left, top, right, bottom]) = spacetime_layout(analysis);
+    let [left, top, right, bottom] = SPACETIME_MARGINS;
     (
-        left + right + px * cols as u32,
+        (left + right + px * cols as u32).max(640),
         top + bottom + py * rows as u32,
     )
 }
 
 /// Draw the space-time picture in the style of the seed's Fig. 1: bins along the pipe from top
 /// to bottom (gravity downwards), time from left to right, gray level linear in the bin count
-/// n_i (white at the smallest count of the picture, black at the largest). The area must be
-/// [`spacetime_size`].
+/// n_i (white at the smallest count of the picture, black at the largest); below, the time
+/// span it shows ([`spacetime_span`]). The cells fill the area inside the margins.
 pub fn draw_spacetime<DB: DrawingBackend>(
     analysis: &LatticeAnalysis,
     root: &plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
+    s: crate::figure::Scale,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let cells = &analysis.spacetime;
-    let mut steps: Vec<u64> = cells.iter().map(|c| c.step).collect();
-    steps.dedup();
-    let nb = cells.iter().map(|c| c.bin as usize + 1).max().unwrap_or(0);
-    let (_, (px, py), [left, top, _, bottom]) = spacetime_layout(analysis);
-    let (_, h) = spacetime_size(analysis);
+    let (cols, rows) = spacetime_cells(analysis);
+    let (w, h) = root.dim_in_pixel();
+    let (w, h) = (s.css(w), s.css(h));
+    let [left, top, right, bottom] = SPACETIME_MARGINS.map(f64::from);
+    let (plot_w, plot_h) = ((w - left - right).max(1.0), (h - top - bottom).max(1.0));
+    let x = |col: usize| s.px(left + plot_w * col as f64 / cols as f64);
+    let y = |bin: usize| s.px(top + plot_h * bin as f64 / rows as f64);
     let lo = cells.iter().map(|c| c.count).min().unwrap_or(0);
     let hi = cells.iter().map(|c| c.count).max().unwrap_or(1).max(lo + 1);
     root.fill(&WHITE)?;
@@ -814,28 +907,48 @@ pub fn draw_spacetime<DB: DrawingBackend>(
             last = Some(c.step);
         }
         let g = 255 - (255.0 * f64::from(c.count - lo) / f64::from(hi - lo)).round() as u8;
-        let x0 = (left + px * col as u32) as i32;
-        let y0 = (top + py * c.bin) as i32;
+        let bin = c.bin as usize;
+        // at least one device pixel each way, so that no column or row is lost
+        let (x0, y0) = (x(col), y(bin));
+        let (x1, y1) = (x(col + 1).max(x0 + 1), y(bin + 1).max(y0 + 1));
         root.draw(&Rectangle::new(
-            [(x0, y0), (x0 + px as i32, y0 + py as i32)],
+            [(x0, y0), (x1, y1)],
             RGBColor(g, g, g).filled(),
         ))?;
     }
-    let font = ("sans-serif", 13).into_font();
-    let first = steps.first().copied().unwrap_or(0);
-    let last = steps.last().copied().unwrap_or(0);
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let font = s.font(13.0);
+    let right_aligned = TextStyle::from(font.clone()).pos(Pos::new(HPos::Right, VPos::Center));
+    let edge = |bin: usize| s.px(top + plot_h * (bin as f64 + 0.5) / rows as f64);
     root.draw(&Text::new(
-        format!("step {first} .. {last} ->"),
-        (left as i32, (h - bottom + 12) as i32),
-        font.clone(),
+        "bin 0",
+        (s.px(left - 6.0), edge(0)),
+        right_aligned.clone(),
     ))?;
-    root.draw(&Text::new(
+    if rows > 1 {
+        root.draw(&Text::new(
+            format!("bin {}", rows - 1),
+            (s.px(left - 6.0), edge(rows - 1)),
+            right_aligned,
+        ))?;
+    }
+    let below = top + plot_h;
+    let lines = [
+        format!("time -> {}", spacetime_span(analysis)),
         format!(
-            "bins 0..{} (gravity down), gray {lo}..{hi}",
-            nb.saturating_sub(1)
+            "{rows} bins of the pipe top to bottom (gravity down); gray: {lo} (white) .. {hi} \
+             (black) particles per bin"
         ),
-        (left as i32, (h - bottom + 30) as i32),
-        font,
-    ))?;
+    ];
+    let wrapped = lines
+        .iter()
+        .flat_map(|l| crate::figure::text::wrap(l, 13.0, w - left - 10.0));
+    for (k, line) in wrapped.take(4).enumerate() {
+        root.draw(&Text::new(
+            line,
+            (s.px(left), s.px(below + 6.0 + 17.0 * k as f64)),
+            font.clone(),
+        ))?;
+    }
     Ok(())
 }

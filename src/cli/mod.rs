@@ -4,6 +4,7 @@ mod bench;
 mod bench_job;
 mod completions;
 mod engines;
+mod figure_size;
 mod gather;
 mod out;
 mod params;

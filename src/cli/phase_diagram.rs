@@ -2,6 +2,7 @@
 //! and write PNG and SVG plots into the results directory; with `--minimum-of C --along R`
 //! the grid of where column C has an interior minimum along parameter R.
 
+use super::figure_size::FigureSize;
 use super::out::{out, outln};
 use super::source::SweepSource;
 use crate::sweep::phase::{Frame, PhaseDiagram, choose_axes, title};
@@ -35,51 +36,6 @@ pub struct PhaseDiagramArgs {
     pub size: FigureSize,
 }
 
-/// The size and resolution of a diagram's pictures.
-#[derive(Debug, Args)]
-pub struct FigureSize {
-    /// picture width in CSS pixels, 300 to 8000 (default: from the grid and the legend)
-    #[arg(long, value_name = "PX")]
-    pub width: Option<u32>,
-    /// picture height in CSS pixels, 200 to 8000 (default: from the grid, title and legend)
-    #[arg(long, value_name = "PX")]
-    pub height: Option<u32>,
-    /// resolution of the PNG in dots per inch, 24 to 600: 96 gives one pixel per CSS pixel,
-    /// 192 twice as many each way (for print); the SVG is vector
-    #[arg(long, default_value_t = 96.0)]
-    pub dpi: f64,
-}
-
-impl FigureSize {
-    /// The frame of a diagram of `sweep` over `axes` with this size; bad sizes are refused.
-    pub fn frame(&self, sweep: &crate::sweep::Sweep, axes: &[&str]) -> Result<Frame, BadInput> {
-        for (name, v, lo, hi) in [
-            ("--width", self.width, 300, 8000),
-            ("--height", self.height, 200, 8000),
-        ] {
-            if let Some(v) = v
-                && !(lo..=hi).contains(&v)
-            {
-                return Err(BadInput(format!(
-                    "{name} {v} is out of range: allowed {lo} to {hi} (CSS pixels)"
-                )));
-            }
-        }
-        if !(self.dpi.is_finite() && (24.0..=600.0).contains(&self.dpi)) {
-            return Err(BadInput(format!(
-                "--dpi {} is out of range: allowed 24 to 600",
-                self.dpi
-            )));
-        }
-        Ok(Frame {
-            width: self.width,
-            height: self.height,
-            dpi: self.dpi,
-            title: title(sweep, axes),
-        })
-    }
-}
-
 /// Write `phase-<x>[-<y>].png` and `.svg` into `dir`; returns their paths.
 pub fn write_plots(diagram: &PhaseDiagram, dir: &Path) -> anyhow::Result<(PathBuf, PathBuf)> {
     let stem = match &diagram.y {
@@ -106,7 +62,10 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
     let mut axes_shown: Vec<&str> = vec![x.as_str()];
     axes_shown.extend(y.as_deref());
     axes_shown.extend(args.along.as_deref());
-    let frame = args.size.frame(&sweep, &axes_shown)?;
+    let frame = Frame {
+        size: args.size.sizing()?,
+        title: title(&sweep, &axes_shown),
+    };
     let mut diagram = match (&args.minimum_of, &args.along) {
         (Some(column), Some(along)) => crate::sweep::curves::minimum_diagram(
             sweep.engine(),
@@ -127,7 +86,11 @@ pub fn run(args: PhaseDiagramArgs) -> anyhow::Result<()> {
         .collect();
     let others = crate::sweep::phase::varying_besides(&sweep, &shown);
     if !others.is_empty() {
-        outln!("note: {others:?} also vary; their jobs share cells (labels joined by /)");
+        outln!(
+            "note: {others:?} also vary; their jobs share cells (a cell whose jobs' labels differ \
+             is marked {})",
+            crate::sweep::phase::DISAGREE
+        );
     }
     out!("{}", diagram.table());
     let (png, svg) = match &args.minimum_of {

@@ -2,6 +2,7 @@
 //! column over a swept parameter, one curve per value of another, with error bars; printed as
 //! a table with each curve's minimum and written as PNG and SVG into the results directory.
 
+use super::figure_size::FigureSize;
 use super::out::{out, outln};
 use super::source::SweepSource;
 use crate::sweep::curves::CurvePlot;
@@ -31,9 +32,12 @@ pub struct PlotArgs {
     /// logarithmic y axis
     #[arg(long)]
     pub log_y: bool,
+    #[command(flatten)]
+    pub size: FigureSize,
 }
 
 pub fn run(args: PlotArgs) -> anyhow::Result<()> {
+    let sizing = args.size.sizing()?;
     let (sweep, dirs) = args.source.open()?;
     let jobs = tables::collect(&sweep, &dirs);
     let swept = swept_in(&sweep);
@@ -50,13 +54,17 @@ pub fn run(args: PlotArgs) -> anyhow::Result<()> {
         .collect();
     let others = crate::sweep::phase::varying_besides(&sweep, &shown);
     if !others.is_empty() {
-        outln!("note: {others:?} also vary; their jobs are averaged into the same points");
+        outln!(
+            "note: {others:?} also vary; their jobs are averaged into the same points (a point \
+             whose jobs' labels differ is marked {})",
+            crate::sweep::phase::DISAGREE
+        );
     }
     out!("{}", plot.table());
     let png = dirs.tables.join(format!("{}.png", plot.stem()));
     let svg = dirs.tables.join(format!("{}.svg", plot.stem()));
-    plot.write_png(&png)?;
-    plot.write_svg(&svg)?;
+    plot.write_png(&png, &sizing)?;
+    plot.write_svg(&svg, &sizing)?;
     outln!("plots: {} {}", png.display(), svg.display());
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! diagram, a sortable table of the jobs, and per job its parameters, provenance, figures and
 //! structure evolution), written into the results directory; works while the sweep runs.
 
+use super::figure_size::FigureSize;
 use super::out::outln;
 use super::source::SweepSource;
 use clap::Args;
@@ -23,11 +24,17 @@ pub struct ReportArgs {
     /// strip)
     #[arg(long)]
     pub y: Option<String>,
+    /// size and resolution of every figure in the report (the figure files of done jobs are
+    /// written at their own size and 96 dpi where missing)
+    #[command(flatten)]
+    pub size: FigureSize,
 }
 
 pub fn run(args: ReportArgs) -> anyhow::Result<()> {
+    let sizing = args.size.sizing()?;
     let (sweep, dirs) = args.source.open()?;
-    let path = crate::report::write_report(&sweep, &dirs, args.x.as_deref(), args.y.as_deref())?;
+    let path =
+        crate::report::write_report(&sweep, &dirs, args.x.as_deref(), args.y.as_deref(), &sizing)?;
     outln!("report: {}", path.display());
     outln!(
         "open it in a browser (e.g. xdg-open {}); it is one file with every figure inside",

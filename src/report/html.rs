@@ -26,6 +26,16 @@ pub fn escape(text: &str) -> String {
     out
 }
 
+/// The `src`, `width` and `height` of an image: its PNG inline and its size in CSS pixels.
+fn picture_attrs(p: &super::Picture) -> String {
+    format!(
+        "src=\"{}\" width=\"{}\" height=\"{}\"",
+        png_url(&p.png),
+        p.css.0,
+        p.css.1
+    )
+}
+
 /// A PNG as a `data:` URL.
 fn png_url(png: &[u8]) -> String {
     format!(
@@ -103,7 +113,7 @@ table.sortable th[aria-sort=descending]::after { content: ' \\25BC'; }
 .state-done { color: #1a7f37; } .state-failed, .state-damaged { color: #c62828; }
 .state-running, .state-partial { color: #b26a00; }
 section.job { border-top: 2px solid #ddd; margin-top: 2em; }
-figure { margin: 1em 0; } figure img { max-width: 100%; border: 1px solid #eee; }
+figure { margin: 1em 0; } figure img { max-width: 100%; height: auto; border: 1px solid #eee; }
 figcaption { color: #444; font-size: 0.9em; max-width: 70em; }
 .note { background: #fff8e1; padding: 4px 8px; }
 pre { background: #f7f7f7; padding: 6px; overflow-x: auto; }
@@ -200,13 +210,13 @@ pub fn page(
         Some(d) => {
             let _ = write!(
                 h,
-                "<img id=\"phase-diagram\" alt=\"phase diagram over {}{}\" src=\"{}\">\n\
+                "<img id=\"phase-diagram\" alt=\"phase diagram over {}{}\" {}>\n\
                  <details><summary>as a table</summary><pre>{}</pre></details>\n",
                 escape(&d.x),
                 d.y.as_ref()
                     .map(|y| format!(" and {}", escape(y)))
                     .unwrap_or_default(),
-                png_url(&d.png),
+                picture_attrs(&d.picture),
                 escape(&d.table)
             );
         }
@@ -497,14 +507,14 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
     }
     if !v.figures.is_empty() {
         h.push_str("<h3>Figures</h3>\n");
-        for (f, png) in &v.figures {
+        for (f, picture) in &v.figures {
             let _ = writeln!(
                 h,
-                "<figure id=\"job-{}-{}\"><img alt=\"{}\" src=\"{}\"><figcaption>{}</figcaption></figure>",
+                "<figure id=\"job-{}-{}\"><img alt=\"{}\" {}><figcaption>{}</figcaption></figure>",
                 job.id.0,
                 f.name,
                 escape(f.name),
-                png_url(png),
+                picture_attrs(picture),
                 escape(&f.caption)
             );
         }

@@ -6,22 +6,29 @@
 //!   of the last snapshot in the three planes, as thesis Figs. 5.2-5.24) and `labels` (the label
 //!   of every snapshot along the run);
 //! - lattice gas: `spacetime` (the seed's Fig. 1 picture; PNG only, a raster of up to 10^5
-//!   cells);
+//!   cells; also as `jobs/<id>/spacetime.png`);
 //! - rarefied gas (DSMC): `profiles` (density, velocity, temperature with their errors);
 //! - the thesis' statistics (runs with `run.statistics`), in the thesis' layout
 //!   ([`super::statistics_figures`]): `vdf` (panels a-f: C_x .. Omega_z at the wall, shear
 //!   and centre slabs with the Gaussian), `pair_correlation`, `orientation` (Lambda(y) with
 //!   1/3), `velocity_correlation` (C_xx, C_yy, C_zz) and `knudsen` (Kn(y), P(l)).
 //!
-//! A running job's figures are drawn the same way from the records it has written so far.
+//! Each figure is headed by its job: the engine, the seed, the id and the parameters by symbol
+//! with their values (those at their defaults on a line of their own). A running job's
+//! figures are drawn the same way from the records it has written so far.
 
 use crate::analysis::classify::significant_plane_modes;
 use crate::analysis::lattice::LatticeAnalysis;
 use crate::analysis::rarefied::RarefiedAnalysis;
 use crate::analysis::{Analysis, JobAnalysis, Record, SnapshotRecord, plane_fields};
-use crate::sweep::phase::marker_colour;
+use crate::figure::text::Heading;
+use crate::figure::ticks::{self, Axis};
+use crate::figure::{Scale, Sizing};
+use crate::sweep::grid::PlannedJob;
+use crate::sweep::phase::{fmt_value, marker_colour, symbol_of};
 use crate::sweep::store::FIGURES_DIR;
 use plotters::coord::Shift;
+use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -31,6 +38,8 @@ pub struct JobFigure {
     pub name: &'static str,
     /// what it shows, in one or two sentences (with the numbers a reader needs)
     pub caption: String,
+    /// the job it is of ([`heading`]), drawn above the plot
+    pub heading: Heading,
     plot: Plot,
 }
 
@@ -94,9 +103,50 @@ struct MapPanel {
 
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
 
+/// The heading of a job's figures: its engine, seed and id; its parameters by symbol (those
+/// the engine requires or derives, and those away from their defaults); then those at their
+/// defaults, named as such (a swept parameter may sit at its default: its value is shown
+/// either way).
+pub fn heading(job: &PlannedJob) -> Heading {
+    let def = job.params.def();
+    let (mut set, mut defaults): (Vec<String>, Vec<String>) = (Vec::new(), Vec::new());
+    for d in def.params {
+        let Some(v) = job.params.values.get(d.name) else {
+            continue;
+        };
+        let text = format!("{} = {}", symbol_of(def, d.name), heading_value(v));
+        if d.default.value().as_ref() == Some(v) {
+            defaults.push(text);
+        } else {
+            set.push(text);
+        }
+    }
+    let mut lines = vec![format!(
+        "{}, seed {}, job {}",
+        def.name, job.params.seed, job.id
+    )];
+    if !set.is_empty() {
+        lines.push(set.join(", "));
+    }
+    if !defaults.is_empty() {
+        lines.push(format!("at their defaults: {}", defaults.join(", ")));
+    }
+    Heading { lines }
+}
+
+/// A parameter value in a heading: as given, or to 4 significant digits when that is long
+/// (a derived value such as phi from N).
+fn heading_value(v: &crate::engine::ParamValue) -> String {
+    let text = fmt_value(v);
+    match v {
+        crate::engine::ParamValue::Number(x) if text.len() > 8 => ticks::short(*x),
+        _ => text,
+    }
+}
+
 impl JobFigure {
-    /// Size in pixels.
-    pub fn size(&self) -> (u32, u32) {
+    /// Its own size in CSS pixels, without the heading.
+    fn natural(&self) -> (u32, u32) {
         match &self.plot {
             Plot::Trace { .. } => (760, 420),
             Plot::Curves(panels) => (960, 260 * panels.len().div_ceil(3).max(1) as u32),
@@ -114,9 +164,17 @@ impl JobFigure {
         }
     }
 
-    /// The figure as PNG bytes.
-    pub fn png(&self) -> anyhow::Result<Vec<u8>> {
-        crate::figure::render_png(self.size(), |root| self.draw(root))
+    /// Size in CSS pixels: as asked, else its own with the heading above.
+    pub fn size(&self, sizing: &Sizing) -> (u32, u32) {
+        let (w, h) = self.natural();
+        let w = sizing.width.unwrap_or(w);
+        (w, sizing.height.unwrap_or(h + self.heading.height(w)))
+    }
+
+    /// The figure as PNG bytes at the size and resolution asked.
+    pub fn png(&self, sizing: &Sizing) -> anyhow::Result<Vec<u8>> {
+        let css = self.size(sizing);
+        crate::figure::render_png(css, sizing.scale(), |root, s| self.draw(root, css, s))
     }
 
     /// Whether the figure is a picture of many cells better kept as a raster only (the
@@ -125,24 +183,38 @@ impl JobFigure {
         matches!(self.plot, Plot::Spacetime(_))
     }
 
-    /// The figure as SVG text.
-    pub fn svg(&self) -> anyhow::Result<String> {
-        crate::figure::render_svg(self.size(), |root| self.draw(root))
+    /// The figure as SVG text at the size asked.
+    pub fn svg(&self, sizing: &Sizing) -> anyhow::Result<String> {
+        let css = self.size(sizing);
+        crate::figure::render_svg(css, |root, s| self.draw(root, css, s))
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
+    /// Where else in the job directory the figure is kept: the space-time picture also as
+    /// `spacetime.png` beside the job's files, where it was before figures had a folder.
+    fn also_at(&self) -> Option<&'static str> {
+        matches!(self.plot, Plot::Spacetime(_)).then_some("spacetime.png")
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        (w, _): (u32, u32),
+        s: Scale,
+    ) -> DrawResult<DB> {
         root.fill(&WHITE)?;
+        let area = self.heading.draw(root, w, s)?;
+        let root = &area;
         match &self.plot {
             Plot::Trace {
                 points,
                 window,
                 steady,
-            } => draw_trace(root, points, *window, *steady),
+            } => draw_trace(root, points, *window, *steady, s),
             Plot::Curves(panels) => {
                 let rows = panels.len().div_ceil(3).max(1);
                 let areas = root.split_evenly((rows, 3));
                 for (panel, area) in panels.iter().zip(&areas) {
-                    draw_curves(area, panel)?;
+                    draw_curves(area, panel, s)?;
                 }
                 Ok(())
             }
@@ -150,13 +222,13 @@ impl JobFigure {
                 panels,
                 quantity,
                 range,
-            } => draw_maps(root, panels, quantity, *range),
+            } => draw_maps(root, panels, quantity, *range, s),
             Plot::Series(panels) => {
                 let columns = panels.len().clamp(1, 3);
                 let rows = panels.len().div_ceil(3).max(1);
                 let areas = root.split_evenly((rows, columns));
                 for (panel, area) in panels.iter().zip(&areas) {
-                    draw_series_panel(area, panel)?;
+                    draw_series_panel(area, panel, s)?;
                 }
                 Ok(())
             }
@@ -164,16 +236,17 @@ impl JobFigure {
                 snapshots,
                 window,
                 steady,
-            } => draw_labels(root, snapshots, *window, *steady),
-            Plot::Spacetime(a) => crate::analysis::lattice::draw_spacetime(a, root),
+            } => draw_labels(root, snapshots, *window, *steady, s),
+            Plot::Spacetime(a) => crate::analysis::lattice::draw_spacetime(a, root, s),
         }
     }
 }
 
 /// The figures of a job from its analysis and records (records of a running job: those so
-/// far). Figures whose data are missing (no records, no spectra) are left out.
-pub fn figures(analysis: &Analysis, records: &[Record]) -> Vec<JobFigure> {
-    match analysis {
+/// far), headed by the job. Figures whose data are missing (no records, no spectra) are left
+/// out.
+pub fn figures(job: &PlannedJob, analysis: &Analysis, records: &[Record]) -> Vec<JobFigure> {
+    let mut out = match analysis {
         Analysis::Structure(a) => {
             let records: Vec<&SnapshotRecord> =
                 records.iter().filter_map(Record::structure).collect();
@@ -183,32 +256,46 @@ pub fn figures(analysis: &Analysis, records: &[Record]) -> Vec<JobFigure> {
             name: "spacetime",
             caption: format!(
                 "Particles per bin along the pipe (top to bottom, gravity down) over time (left \
-                 to right), as the seed's Fig. 1; label: {}.",
+                 to right), as the seed's Fig. 1: {}; label: {}.",
+                crate::analysis::lattice::spacetime_span(a),
                 a.summary.label
             ),
+            heading: Heading::default(),
             plot: Plot::Spacetime(Box::new(a.clone())),
         }],
         Analysis::Lattice(_) => Vec::new(),
         Analysis::Rarefied(a) => rarefied_figures(a),
+    };
+    let heading = heading(job);
+    for f in &mut out {
+        f.heading = heading.clone();
     }
+    out
 }
 
 /// Write figures into the job directory's `figures/` as `<name>.png` and `<name>.svg` (PNG
-/// only for [`JobFigure::raster_only`] ones); the paths written.
+/// only for [`JobFigure::raster_only`] ones), at their own size and 96 dpi; the paths written.
 pub fn write(job_dir: &Path, figures: &[JobFigure]) -> anyhow::Result<Vec<PathBuf>> {
     if figures.is_empty() {
         return Ok(Vec::new());
     }
+    let sizing = Sizing::default();
     let dir = job_dir.join(FIGURES_DIR);
     std::fs::create_dir_all(&dir).map_err(|e| crate::sweep::fs_error::PathError::new(&dir, e))?;
     let mut written = Vec::new();
     for f in figures {
         let png = dir.join(format!("{}.png", f.name));
-        crate::sweep::write_atomic(&png, &f.png()?)?;
+        let bytes = f.png(&sizing)?;
+        crate::sweep::write_atomic(&png, &bytes)?;
         written.push(png);
+        if let Some(name) = f.also_at() {
+            let also = job_dir.join(name);
+            crate::sweep::write_atomic(&also, &bytes)?;
+            written.push(also);
+        }
         if !f.raster_only() {
             let svg = dir.join(format!("{}.svg", f.name));
-            crate::sweep::write_atomic(&svg, f.svg()?.as_bytes())?;
+            crate::sweep::write_atomic(&svg, f.svg(&sizing)?.as_bytes())?;
             written.push(svg);
         }
     }
@@ -227,6 +314,7 @@ pub fn all_written(job_dir: &Path, figures: &[JobFigure]) -> bool {
         formats
             .iter()
             .all(|ext| dir.join(format!("{}.{ext}", f.name)).exists())
+            && f.also_at().is_none_or(|name| job_dir.join(name).exists())
     })
 }
 
@@ -242,6 +330,7 @@ fn structure_figures(a: &JobAnalysis, records: &[&SnapshotRecord]) -> Vec<JobFig
     let mut out = Vec::new();
     if !a.energy.is_empty() {
         out.push(JobFigure {
+            heading: Heading::default(),
             name: "energy",
             caption: format!(
                 "Translational and rotational kinetic energy per particle over the run; shaded: \
@@ -261,6 +350,7 @@ fn structure_figures(a: &JobAnalysis, records: &[&SnapshotRecord]) -> Vec<JobFig
     if !a.profiles.is_empty() {
         let width = records.last().map_or(f64::NAN, |r| r.box_extent[1]);
         out.push(JobFigure {
+            heading: Heading::default(),
             name: "profiles",
             caption: format!(
                 "Profiles across the channel (0 <= y <= W{}), averaged over the window ({window_text}); \
@@ -307,6 +397,7 @@ fn structure_figures(a: &JobAnalysis, records: &[&SnapshotRecord]) -> Vec<JobFig
             super::statistics_figures::figures(st, width)
                 .into_iter()
                 .map(|(name, caption, panels)| JobFigure {
+                    heading: Heading::default(),
                     name,
                     caption,
                     plot: Plot::Series(panels),
@@ -317,6 +408,7 @@ fn structure_figures(a: &JobAnalysis, records: &[&SnapshotRecord]) -> Vec<JobFig
         crate::analysis::snapshot_labels(&records.iter().map(|r| (*r).clone()).collect::<Vec<_>>());
     if !labels.is_empty() {
         out.push(JobFigure {
+            heading: Heading::default(),
             name: "labels",
             caption: format!(
                 "The structure label of every snapshot on its own ({} snapshots); bar below: \
@@ -396,6 +488,7 @@ fn spectra_figure(a: &JobAnalysis) -> Option<JobFigure> {
         return None;
     }
     Some(JobFigure {
+        heading: Heading::default(),
         name: "spectra",
         caption: format!(
             "Window-averaged power spectra of the density in the xy, xz and yz planes, folded onto \
@@ -459,6 +552,7 @@ fn density_figure(records: &[&SnapshotRecord]) -> Option<JobFigure> {
             wave_numbers: false,
         };
     Some(JobFigure {
+        heading: Heading::default(),
         name: "density",
         caption: format!(
             "Volume fraction of the last snapshot ({} collisions per particle) in the xy, xz and \
@@ -498,6 +592,7 @@ fn rarefied_figures(a: &RarefiedAnalysis) -> Vec<JobFigure> {
             }
         };
     vec![JobFigure {
+        heading: Heading::default(),
         name: "profiles",
         caption: format!(
             "Time-averaged profiles across the channel with their block-average standard errors \
@@ -547,23 +642,9 @@ fn window_colour(steady: bool) -> RGBColor {
     }
 }
 
-/// A tick label: at most 4 significant digits, no trailing zeros.
+/// A tick label of a linear axis ([`ticks::short`]).
 fn tick(v: &f64) -> String {
-    let v = *v;
-    // round-off about zero (e.g. -5.6e-17 on a symmetric axis) is zero
-    if v.abs() < 1e-10 || !v.is_finite() {
-        return "0".into();
-    }
-    if v.abs() >= 1e5 || v.abs() < 1e-3 {
-        return format!("{v:.1e}");
-    }
-    let digits = (3 - v.abs().log10().floor() as i32).clamp(0, 6) as usize;
-    let text = format!("{v:.digits$}");
-    if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        text
-    }
+    ticks::short(*v)
 }
 
 fn draw_trace<DB: DrawingBackend>(
@@ -571,6 +652,7 @@ fn draw_trace<DB: DrawingBackend>(
     points: &[(f64, f64, f64)],
     window: Option<(f64, f64)>,
     steady: bool,
+    s: Scale,
 ) -> DrawResult<DB> {
     let (x0, x1) = span(points.iter().map(|p| p.0), false).unwrap_or((0.0, 1.0));
     let log = points.iter().all(|p| p.1 > 0.0 && p.2 > 0.0);
@@ -579,21 +661,24 @@ fn draw_trace<DB: DrawingBackend>(
     let translational = RGBColor(214, 39, 40);
     let rotational = RGBColor(44, 160, 44);
     let shade = window_colour(steady);
+    let (margin, x_area, y_area, label) = (12, 42, 72, 12.0);
+    let (_, h) = root.dim_in_pixel();
+    let plot_h = s.css(h) - f64::from(2 * margin + x_area) - 1.6 * 16.0;
+    let (line, key) = (s.line(2.0), s.px(18));
     macro_rules! chart {
-        ($yr:expr) => {{
+        ($yr:expr, $y_format:expr) => {{
             let mut chart = ChartBuilder::on(root)
-                .caption("kinetic energy per particle", ("sans-serif", 16))
-                .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(70)
+                .caption("kinetic energy per particle", s.font(16.0))
+                .margin(s.px(margin))
+                .x_label_area_size(s.px(x_area))
+                .y_label_area_size(s.px(y_area))
                 .build_cartesian_2d(x0..x1, $yr)?;
-            chart
-                .configure_mesh()
+            let mut mesh = chart.configure_mesh();
+            crate::figure::mesh_style(&mut mesh, s, label)
                 .x_desc("collisions per particle")
                 .y_desc("E / N  (m g d)")
                 .x_label_formatter(&tick)
-                .y_label_formatter(&tick)
-                .label_style(("sans-serif", 12))
+                .y_label_formatter($y_format)
                 .draw()?;
             if let Some((w0, w1)) = window {
                 chart
@@ -607,38 +692,51 @@ fn draw_trace<DB: DrawingBackend>(
                         "window (not steady)"
                     })
                     .legend(move |(x, y)| {
-                        Rectangle::new([(x, y - 5), (x + 18, y + 5)], shade.mix(0.3).filled())
+                        Rectangle::new(
+                            [(x, y - s.px(5)), (x + key, y + s.px(5))],
+                            shade.mix(0.3).filled(),
+                        )
                     });
             }
             for (name, colour, pick) in [
                 ("translational", translational, 0usize),
                 ("rotational", rotational, 1),
             ] {
-                let line: Vec<(f64, f64)> = points
+                let points: Vec<(f64, f64)> = points
                     .iter()
                     .map(|p| (p.0, if pick == 0 { p.1 } else { p.2 }))
                     .filter(|(_, v)| v.is_finite() && (!log || *v > 0.0))
                     .collect();
                 chart
-                    .draw_series(LineSeries::new(line, colour.stroke_width(2)))?
+                    .draw_series(LineSeries::new(points, colour.stroke_width(line)))?
                     .label(name)
                     .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                        PathElement::new(vec![(x, y), (x + key, y)], colour.stroke_width(line))
                     });
             }
             chart
                 .configure_series_labels()
                 .position(SeriesLabelPosition::LowerRight)
+                .margin(s.px(10))
+                .legend_area_size(s.px(30))
                 .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 12))
+                .border_style(BLACK.stroke_width(s.line(1.0)))
+                .label_font(s.font(label))
                 .draw()?;
         }};
     }
     if log {
-        chart!((y0..y1).log_scale())
+        let key_points = ticks::log_ticks(y0, y1, plot_h, label, Axis::Vertical);
+        let format = |v: &f64| ticks::label(*v);
+        chart!(
+            (y0..y1)
+                .log_scale()
+                .with_key_points(key_points)
+                .with_light_points(ticks::log_grid(y0, y1)),
+            &format
+        )
     } else {
-        chart!(y0..y1)
+        chart!(y0..y1, &tick)
     }
     Ok(())
 }
@@ -646,6 +744,7 @@ fn draw_trace<DB: DrawingBackend>(
 fn draw_curves<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     panel: &CurvePanel,
+    s: Scale,
 ) -> DrawResult<DB> {
     let (x0, x1) = span(panel.points.iter().map(|p| p.0), false).unwrap_or((0.0, 1.0));
     let with_errors = |p: &(f64, f64, f64)| {
@@ -654,19 +753,18 @@ fn draw_curves<DB: DrawingBackend>(
     };
     let (y0, y1) = span(panel.points.iter().flat_map(with_errors), false).unwrap_or((0.0, 1.0));
     let mut chart = ChartBuilder::on(area)
-        .caption(panel.title.clone(), ("sans-serif", 14))
-        .margin(8)
-        .x_label_area_size(34)
-        .y_label_area_size(62)
+        .caption(panel.title.clone(), s.font(14.0))
+        .margin(s.px(8))
+        .x_label_area_size(s.px(36))
+        .y_label_area_size(s.px(62))
         .build_cartesian_2d(x0..x1, y0..y1)?;
-    chart
-        .configure_mesh()
+    let mut mesh = chart.configure_mesh();
+    crate::figure::mesh_style(&mut mesh, s, PANEL_LABEL)
         .x_desc(panel.x_label.clone())
         .x_labels(6)
         .y_labels(6)
         .x_label_formatter(&tick)
         .y_label_formatter(&tick)
-        .label_style(("sans-serif", 11))
         .draw()?;
     let colour = RGBColor(31, 119, 180);
     let finite: Vec<(f64, f64, f64)> = panel
@@ -677,18 +775,18 @@ fn draw_curves<DB: DrawingBackend>(
         .collect();
     chart.draw_series(LineSeries::new(
         finite.iter().map(|p| (p.0, p.1)),
-        colour.stroke_width(2),
+        colour.stroke_width(s.line(2.0)),
     ))?;
     for p in finite.iter().filter(|p| p.2.is_finite() && p.2 > 0.0) {
         chart.draw_series(std::iter::once(PathElement::new(
             vec![(p.0, p.1 - p.2), (p.0, p.1 + p.2)],
-            colour.stroke_width(1),
+            colour.stroke_width(s.line(1.0)),
         )))?;
     }
     chart.draw_series(
         finite
             .iter()
-            .map(|p| Circle::new((p.0, p.1), 2, colour.filled())),
+            .map(|p| Circle::new((p.0, p.1), s.px(2), colour.filled())),
     )?;
     Ok(())
 }
@@ -706,6 +804,7 @@ const SERIES_COLOURS: [RGBColor; 6] = [
 fn draw_series_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     panel: &SeriesPanel,
+    s: Scale,
 ) -> DrawResult<DB> {
     let all = || {
         panel
@@ -737,19 +836,18 @@ fn draw_series_panel<DB: DrawingBackend>(
     macro_rules! chart {
         ($yr:expr) => {{
             let mut chart = ChartBuilder::on(area)
-                .caption(panel.title.clone(), ("sans-serif", 14))
-                .margin(8)
-                .x_label_area_size(34)
-                .y_label_area_size(56)
+                .caption(panel.title.clone(), s.font(14.0))
+                .margin(s.px(8))
+                .x_label_area_size(s.px(36))
+                .y_label_area_size(s.px(62))
                 .build_cartesian_2d(x0..x1, $yr)?;
-            chart
-                .configure_mesh()
+            let mut mesh = chart.configure_mesh();
+            crate::figure::mesh_style(&mut mesh, s, PANEL_LABEL)
                 .x_desc(panel.x_label.clone())
                 .x_labels(6)
                 .y_labels(6)
                 .x_label_formatter(&tick)
                 .y_label_formatter(&tick)
-                .label_style(("sans-serif", 11))
                 .draw()?;
             if let Some((name, points)) = &panel.reference {
                 let line: Vec<(f64, f64)> = points
@@ -758,9 +856,16 @@ fn draw_series_panel<DB: DrawingBackend>(
                     .filter(|p| keep(p.1) && p.0 >= x0 && p.0 <= x1)
                     .collect();
                 chart
-                    .draw_series(DashedLineSeries::new(line, 6, 4, BLACK.stroke_width(1)))?
+                    .draw_series(DashedLineSeries::new(
+                        line,
+                        s.px(6),
+                        s.px(4),
+                        BLACK.stroke_width(s.line(1.0)),
+                    ))?
                     .label(name.clone())
-                    .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK));
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + s.px(18), y)], BLACK)
+                    });
             }
             for (k, (name, points)) in panel.series.iter().enumerate() {
                 let colour = SERIES_COLOURS[k % SERIES_COLOURS.len()];
@@ -770,10 +875,13 @@ fn draw_series_panel<DB: DrawingBackend>(
                     .filter(|p| p.0.is_finite() && keep(p.1))
                     .collect();
                 chart
-                    .draw_series(LineSeries::new(line, colour.stroke_width(2)))?
+                    .draw_series(LineSeries::new(line, colour.stroke_width(s.line(2.0))))?
                     .label(name.clone())
                     .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                        PathElement::new(
+                            vec![(x, y), (x + s.px(18), y)],
+                            colour.stroke_width(s.line(2.0)),
+                        )
                     });
             }
             chart
@@ -781,7 +889,7 @@ fn draw_series_panel<DB: DrawingBackend>(
                 .position(SeriesLabelPosition::UpperRight)
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
-                .label_font(("sans-serif", 10))
+                .label_font(s.font(11.0))
                 .draw()?;
         }};
     }
@@ -792,6 +900,9 @@ fn draw_series_panel<DB: DrawingBackend>(
     }
     Ok(())
 }
+
+/// Tick labels of the panels of curves and maps, CSS pixels.
+const PANEL_LABEL: f64 = 12.0;
 
 /// A perceptually ordered colour map (viridis, five stops, linear between them), t in [0, 1].
 pub fn colour_map(t: f64) -> RGBColor {
@@ -820,27 +931,28 @@ fn draw_maps<DB: DrawingBackend>(
     panels: &[MapPanel],
     quantity: &str,
     (lo, hi): (f64, f64),
+    s: Scale,
 ) -> DrawResult<DB> {
     let (w, _) = root.dim_in_pixel();
-    let (maps, bar) = root.split_horizontally(w.saturating_sub(110));
+    let (maps, bar) = root.split_horizontally(w.saturating_sub(s.upx(110)));
     let areas = maps.split_evenly((1, panels.len().max(1)));
     let scale = |v: f64| (v - lo) / (hi - lo);
     for (panel, area) in panels.iter().zip(&areas) {
         let (x0, x1) = (panel.x_edges[0], *panel.x_edges.last().unwrap_or(&1.0));
         let (y0, y1) = (panel.y_edges[0], *panel.y_edges.last().unwrap_or(&1.0));
-        // keep the aspect ratio of lengths (not of wave numbers)
+        // keep the aspect ratio of lengths (not of wave numbers); device pixels
         let (aw, ah) = area.dim_in_pixel();
-        let (label_x, label_y, caption, margin) = (34i32, 48i32, 24i32, 8i32);
+        let (label_x, label_y, caption, margin) = (s.px(36), s.px(50), s.px(24), s.px(8));
         let (mut extra_w, mut extra_h) = (0i32, 0i32);
         if !panel.wave_numbers {
             let room_w = (aw as i32 - label_y - 2 * margin).max(10) as f64;
             let room_h = (ah as i32 - label_x - caption - 2 * margin).max(10) as f64;
-            let s = (room_w / (x1 - x0)).min(room_h / (y1 - y0));
-            extra_w = (room_w - s * (x1 - x0)).max(0.0) as i32;
-            extra_h = (room_h - s * (y1 - y0)).max(0.0) as i32;
+            let k = (room_w / (x1 - x0)).min(room_h / (y1 - y0));
+            extra_w = (room_w - k * (x1 - x0)).max(0.0) as i32;
+            extra_h = (room_h - k * (y1 - y0)).max(0.0) as i32;
         }
         let mut chart = ChartBuilder::on(area)
-            .caption(panel.title.clone(), ("sans-serif", 14))
+            .caption(panel.title.clone(), s.font(14.0))
             .margin(margin)
             .margin_right(margin + extra_w)
             .margin_top(margin + extra_h / 2)
@@ -856,10 +968,10 @@ fn draw_maps<DB: DrawingBackend>(
             }
         };
         let mut mesh = chart.configure_mesh();
-        mesh.disable_mesh()
+        crate::figure::mesh_style(&mut mesh, s, PANEL_LABEL)
+            .disable_mesh()
             .x_desc(panel.x_label.clone())
-            .y_desc(panel.y_label.clone())
-            .label_style(("sans-serif", 11));
+            .y_desc(panel.y_label.clone());
         if panel.wave_numbers {
             mesh.x_label_formatter(&integer).y_label_formatter(&integer);
         } else {
@@ -888,30 +1000,34 @@ fn draw_maps<DB: DrawingBackend>(
                     (panel.x_edges[i], panel.y_edges[j]),
                     (panel.x_edges[i + 1], panel.y_edges[j + 1]),
                 ],
-                RGBColor(214, 39, 40).stroke_width(2),
+                RGBColor(214, 39, 40).stroke_width(s.line(2.0)),
             )
         }))?;
     }
-    // the colour bar
+    // the colour bar, laid out in CSS pixels
     let (_, bh) = bar.dim_in_pixel();
-    let (top, bottom) = (40i32, bh as i32 - 50);
+    let (top, bottom) = (40i32, s.css(bh) as i32 - 50);
     let steps = 64;
     for k in 0..steps {
         let y_hi = bottom - (bottom - top) * (k + 1) / steps;
         let y_lo = bottom - (bottom - top) * k / steps;
         bar.draw(&Rectangle::new(
-            [(20, y_hi), (44, y_lo)],
+            [s.at((20, y_hi)), s.at((44, y_lo))],
             colour_map((k as f64 + 0.5) / steps as f64).filled(),
         ))?;
     }
-    let font = ("sans-serif", 11).into_font();
-    bar.draw(&Text::new(format!("{hi:.3}"), (48, top - 6), font.clone()))?;
+    let font = s.font(PANEL_LABEL);
     bar.draw(&Text::new(
-        format!("{lo:.3}"),
-        (48, bottom - 6),
+        format!("{hi:.3}"),
+        s.at((48, top - 6)),
         font.clone(),
     ))?;
-    bar.draw(&Text::new(quantity.to_string(), (6, top - 26), font))?;
+    bar.draw(&Text::new(
+        format!("{lo:.3}"),
+        s.at((48, bottom - 6)),
+        font.clone(),
+    ))?;
+    bar.draw(&Text::new(quantity.to_string(), s.at((6, top - 26)), font))?;
     Ok(())
 }
 
@@ -920,9 +1036,10 @@ fn draw_labels<DB: DrawingBackend>(
     snapshots: &[(f64, String)],
     window: Option<(f64, f64)>,
     steady: bool,
+    s: Scale,
 ) -> DrawResult<DB> {
     let (w, _) = root.dim_in_pixel();
-    let (strip, legend) = root.split_horizontally(w.saturating_sub(220));
+    let (strip, legend) = root.split_horizontally(w.saturating_sub(s.upx(220)));
     let first = snapshots.first().map_or(0.0, |s| s.0);
     let last = snapshots.last().map_or(1.0, |s| s.0);
     // each snapshot's cell reaches to the next one; the last one is as wide as the one before
@@ -933,18 +1050,17 @@ fn draw_labels<DB: DrawingBackend>(
     };
     let (x0, x1) = (first, (last + step).max(first + 1e-9));
     let mut chart = ChartBuilder::on(&strip)
-        .caption("label of each snapshot", ("sans-serif", 15))
-        .margin(10)
-        .x_label_area_size(36)
-        .y_label_area_size(10)
+        .caption("label of each snapshot", s.font(15.0))
+        .margin(s.px(10))
+        .x_label_area_size(s.px(38))
+        .y_label_area_size(s.px(10))
         .build_cartesian_2d(x0..x1, 0.0..1.0)?;
-    chart
-        .configure_mesh()
+    let mut mesh = chart.configure_mesh();
+    crate::figure::mesh_style(&mut mesh, s, PANEL_LABEL)
         .disable_mesh()
         .disable_y_axis()
         .x_desc("collisions per particle")
         .x_label_formatter(&tick)
-        .label_style(("sans-serif", 11))
         .draw()?;
     let base = |key: &str| key.split('(').next().unwrap_or(key).to_string();
     chart.draw_series(snapshots.iter().enumerate().map(|(i, (c, key))| {
@@ -960,7 +1076,7 @@ fn draw_labels<DB: DrawingBackend>(
             window_colour(steady).filled(),
         )))?;
     }
-    // legend: each label with its share of the snapshots
+    // legend: each label with its share of the snapshots (CSS pixels)
     let mut keys: Vec<(String, usize)> = Vec::new();
     for (_, key) in snapshots {
         match keys.iter_mut().find(|(k, _)| k == key) {
@@ -969,11 +1085,11 @@ fn draw_labels<DB: DrawingBackend>(
         }
     }
     keys.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-    let font = ("sans-serif", 12).into_font();
+    let font = s.font(12.0);
     let mut y = 30;
     for (key, count) in keys.iter().take(7) {
         legend.draw(&Rectangle::new(
-            [(6, y - 6), (20, y + 6)],
+            [s.at((6, y - 6)), s.at((20, y + 6))],
             marker_colour(&base(key)).filled(),
         ))?;
         legend.draw(&Text::new(
@@ -981,13 +1097,13 @@ fn draw_labels<DB: DrawingBackend>(
                 "{key} {:.0} %",
                 100.0 * *count as f64 / snapshots.len() as f64
             ),
-            (26, y - 7),
+            s.at((26, y - 7)),
             font.clone(),
         ))?;
         y += 20;
     }
     legend.draw(&Rectangle::new(
-        [(6, y - 3), (20, y + 3)],
+        [s.at((6, y - 3)), s.at((20, y + 3))],
         window_colour(steady).filled(),
     ))?;
     legend.draw(&Text::new(
@@ -996,7 +1112,7 @@ fn draw_labels<DB: DrawingBackend>(
         } else {
             "window (not steady)"
         },
-        (26, y - 7),
+        s.at((26, y - 7)),
         font,
     ))?;
     Ok(())

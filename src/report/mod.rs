@@ -9,6 +9,7 @@ pub mod job_figures;
 mod statistics_figures;
 
 use crate::analysis::Analysis;
+use crate::figure::Sizing;
 use crate::sweep::phase::{PhaseDiagram, choose_axes, swept_in, title};
 use crate::sweep::store::{self, JobState};
 use crate::sweep::tables::{self, GatheredJob};
@@ -30,8 +31,8 @@ pub struct JobView<'a> {
     /// the result's analysis, or for a running or partial job the analysis of its records so
     /// far
     pub analysis: Option<Analysis>,
-    /// figures with their PNG bytes
-    pub figures: Vec<(JobFigure, Vec<u8>)>,
+    /// figures with their pictures
+    pub figures: Vec<(JobFigure, Picture)>,
     /// what could not be read or drawn
     pub problems: Vec<String>,
 }
@@ -54,18 +55,31 @@ impl JobView<'_> {
     }
 }
 
+/// A figure as the page shows it: its PNG at the resolution asked and its size in CSS pixels
+/// (the page draws it at that size whatever the resolution, so 192 dpi is sharper, not
+/// larger).
+pub struct Picture {
+    pub png: Vec<u8>,
+    pub css: (u32, u32),
+}
+
 /// The phase diagram the report shows: the picture and its text table.
 pub struct DiagramView {
-    pub png: Vec<u8>,
+    pub picture: Picture,
     pub table: String,
     pub x: String,
     pub y: Option<String>,
 }
 
 /// Read one job for the report: its analysis (the result's, or the records so far), its
-/// figures rendered as PNG; the figure files of a done job are written into its directory
-/// where they are missing (jobs finished before figures existed).
-pub fn view_job<'a>(dirs: &SweepDirs, gathered: &'a GatheredJob<'a>) -> JobView<'a> {
+/// figures rendered as PNG at `sizing`; the figure files of a done job are written into its
+/// directory where they are missing (jobs finished before figures existed; at their own size
+/// and 96 dpi, as a job writes them).
+pub fn view_job<'a>(
+    dirs: &SweepDirs,
+    gathered: &'a GatheredJob<'a>,
+    sizing: &Sizing,
+) -> JobView<'a> {
     let job = gathered.job;
     let dir = dirs.job_dir(&job.id);
     let clock = job.params.run.clock();
@@ -100,7 +114,7 @@ pub fn view_job<'a>(dirs: &SweepDirs, gathered: &'a GatheredJob<'a>) -> JobView<
     };
     let drawn = analysis
         .as_ref()
-        .map(|a| job_figures::figures(a, &records))
+        .map(|a| job_figures::figures(job, a, &records))
         .unwrap_or_default();
     if gathered.result.is_some()
         && !job_figures::all_written(&dir, &drawn)
@@ -110,8 +124,11 @@ pub fn view_job<'a>(dirs: &SweepDirs, gathered: &'a GatheredJob<'a>) -> JobView<
     }
     let mut figures = Vec::new();
     for f in drawn {
-        match f.png() {
-            Ok(png) => figures.push((f, png)),
+        match f.png(sizing) {
+            Ok(png) => {
+                let css = f.size(sizing);
+                figures.push((f, Picture { png, css }))
+            }
             Err(e) => problems.push(format!("figure {}: {e:#}", f.name)),
         }
     }
@@ -125,19 +142,21 @@ pub fn view_job<'a>(dirs: &SweepDirs, gathered: &'a GatheredJob<'a>) -> JobView<
     }
 }
 
-/// The diagram over `x` and `y` (defaults: the first two swept parameters), None when the
-/// sweep varies nothing and no axis is asked.
+/// The diagram over `x` and `y` (defaults: the first two swept parameters) at `sizing`, None
+/// when the sweep varies nothing and no axis is asked.
 pub fn diagram(
     sweep: &Sweep,
     jobs: &[GatheredJob],
     x: Option<&str>,
     y: Option<&str>,
+    sizing: &Sizing,
 ) -> Result<Option<DiagramView>, anyhow::Error> {
     if x.is_none() && swept_in(sweep).is_empty() {
         return Ok(None);
     }
     let (x, y) = choose_axes(sweep, x, y, None).map_err(BadInput)?;
     let mut d = PhaseDiagram::build(sweep.engine(), jobs, &x, y.as_deref()).map_err(BadInput)?;
+    d.frame.size = *sizing;
     d.frame.title = title(
         sweep,
         &std::iter::once(x.as_str())
@@ -145,7 +164,10 @@ pub fn diagram(
             .collect::<Vec<_>>(),
     );
     Ok(Some(DiagramView {
-        png: d.png()?,
+        picture: Picture {
+            png: d.png()?,
+            css: d.size(),
+        },
         table: d.table(),
         x,
         y,
@@ -190,7 +212,11 @@ pub struct Comparison {
 /// The comparison figures of a sweep with statistics: each column of [`COMPARED`] against the
 /// restitution (else the first swept number), one curve per value of the roughness (else of
 /// the other swept parameter); none without statistics or without a swept number.
-pub fn statistics_comparisons(sweep: &Sweep, jobs: &[GatheredJob]) -> Vec<Comparison> {
+pub fn statistics_comparisons(
+    sweep: &Sweep,
+    jobs: &[GatheredJob],
+    sizing: &Sizing,
+) -> Vec<Comparison> {
     if !tables::has_statistics(sweep) {
         return Vec::new();
     }
@@ -222,7 +248,7 @@ pub fn statistics_comparisons(sweep: &Sweep, jobs: &[GatheredJob]) -> Vec<Compar
             if plot.series.iter().all(|s| s.points.is_empty()) {
                 return None;
             }
-            let png = plot.png().ok()?;
+            let png = plot.png(sizing).ok()?;
             Some(Comparison {
                 name: y.to_string(),
                 caption: format!(
@@ -237,17 +263,19 @@ pub fn statistics_comparisons(sweep: &Sweep, jobs: &[GatheredJob]) -> Vec<Compar
         .collect()
 }
 
-/// Write the report of a sweep into its results directory (`report.html`); its path.
+/// Write the report of a sweep into its results directory (`report.html`), its figures at
+/// `sizing`; its path.
 pub fn write_report(
     sweep: &Sweep,
     dirs: &SweepDirs,
     x: Option<&str>,
     y: Option<&str>,
+    sizing: &Sizing,
 ) -> anyhow::Result<PathBuf> {
     let jobs = tables::collect(sweep, dirs);
-    let diagram = diagram(sweep, &jobs, x, y)?;
-    let views: Vec<JobView> = jobs.par_iter().map(|j| view_job(dirs, j)).collect();
-    let comparisons = statistics_comparisons(sweep, &jobs);
+    let diagram = diagram(sweep, &jobs, x, y, sizing)?;
+    let views: Vec<JobView> = jobs.par_iter().map(|j| view_job(dirs, j, sizing)).collect();
+    let comparisons = statistics_comparisons(sweep, &jobs, sizing);
     let page = html::page(sweep, dirs, diagram.as_ref(), &views, &comparisons);
     std::fs::create_dir_all(&dirs.tables)
         .map_err(|e| anyhow::anyhow!("{}: {e}", dirs.tables.display()))?;

@@ -9,16 +9,20 @@
 //! collapse guard went beyond its validity) is drawn hollow, marked in the table, and never
 //! decides a minimum.
 
-use super::phase::{Cell, CellJob, PhaseDiagram, fmt_value};
+use super::phase::{Cell, CellJob, DISAGREE, PhaseDiagram, fmt_value};
 use super::tables::GatheredJob;
 use crate::engine::{EngineDef, ParamValue};
+use crate::figure::ticks::{self, Axis};
+use crate::figure::{Scale, Sizing};
 use plotters::coord::Shift;
+use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::collections::BTreeMap;
 use std::path::Path;
 
 /// One point of a curve: the mean over the jobs (seeds) at one x.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Point {
     pub x: f64,
     pub y: f64,
@@ -28,7 +32,36 @@ pub struct Point {
     pub jobs: usize,
     /// every job at the point was steady with a valid method
     pub valid: bool,
+    /// the labels the point's jobs gave and how many gave each, most first (more than one:
+    /// the mean pools jobs that disagree, marked [`DISAGREE`])
+    pub labels: Vec<(String, usize)>,
 }
+
+impl Point {
+    /// Whether the point averages jobs whose labels differ.
+    pub fn disagrees(&self) -> bool {
+        self.labels.len() > 1
+    }
+}
+
+/// One job's value at a point: y, its error, whether the job is valid, its label.
+#[derive(Clone, Debug, PartialEq)]
+struct Sample {
+    y: f64,
+    error: f64,
+    valid: bool,
+    label: String,
+}
+
+/// The size of a curve plot unless one is asked for, CSS pixels.
+const SIZE: (u32, u32) = (820, 560);
+/// Its margin, the room for the x and y tick labels and axis names, and the font sizes of
+/// caption and tick labels, CSS pixels.
+const MARGIN: i32 = 14;
+const X_AREA: i32 = 46;
+const Y_AREA: i32 = 78;
+const CAPTION: f64 = 18.0;
+const LABEL: f64 = 13.0;
 
 /// One curve: the points of one value of the `by` parameter, in increasing x.
 #[derive(Clone, Debug, PartialEq)]
@@ -105,16 +138,40 @@ fn numeric_param(engine: &EngineDef, name: &str) -> Result<(), String> {
 }
 
 /// Combine the jobs at one x into a point.
-fn point(x: f64, values: &[(f64, f64, bool)]) -> Point {
+fn point(x: f64, values: &[Sample]) -> Point {
     let n = values.len() as f64;
-    let y = values.iter().map(|v| v.0).sum::<f64>() / n;
-    let error = values.iter().map(|v| v.1 * v.1).sum::<f64>().sqrt() / n;
+    let y = values.iter().map(|v| v.y).sum::<f64>() / n;
+    let error = values.iter().map(|v| v.error * v.error).sum::<f64>().sqrt() / n;
+    let mut labels: Vec<(String, usize)> = Vec::new();
+    for v in values {
+        match labels.iter_mut().find(|(l, _)| *l == v.label) {
+            Some(l) => l.1 += 1,
+            None => labels.push((v.label.clone(), 1)),
+        }
+    }
+    labels.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
     Point {
         x,
         y,
         error,
         jobs: values.len(),
-        valid: values.iter().all(|v| v.2),
+        valid: values.iter().all(|v| v.valid),
+        labels,
+    }
+}
+
+/// A job's label as a point pools it: its label with humps, "not-steady" when not steady.
+fn job_label(analysis: &crate::analysis::Analysis) -> String {
+    let (label, humps) = analysis.label();
+    let steady = analysis
+        .summary()
+        .get("steady")
+        .and_then(|v| v.as_bool())
+        .unwrap_or(label != "not-steady");
+    if steady {
+        crate::analysis::labels::label_key(label, humps)
+    } else {
+        "not-steady".into()
     }
 }
 
@@ -161,9 +218,8 @@ impl CurvePlot {
             ));
         }
         let error_column = format!("{y}_error");
-        // by value -> x -> (y, error, valid) of each job
-        let mut groups: BTreeMap<String, BTreeMap<u64, (f64, Vec<(f64, f64, bool)>)>> =
-            BTreeMap::new();
+        // by value -> x -> the jobs' samples
+        let mut groups: BTreeMap<String, BTreeMap<u64, (f64, Vec<Sample>)>> = BTreeMap::new();
         let mut order: Vec<(ParamValue, String)> = Vec::new();
         let mut not_done = 0;
         for j in jobs {
@@ -199,7 +255,12 @@ impl CurvePlot {
                 .entry(xv.to_bits())
                 .or_insert((xv, Vec::new()))
                 .1
-                .push((yv, ev, ok));
+                .push(Sample {
+                    y: yv,
+                    error: ev,
+                    valid: ok,
+                    label: job_label(&r.analysis),
+                });
         }
         order.sort_by(|a, b| match (&a.0, &b.0) {
             (ParamValue::Number(p), ParamValue::Number(q)) => p.total_cmp(q),
@@ -246,7 +307,7 @@ impl CurvePlot {
             ));
             for p in &s.points {
                 out.push_str(&format!(
-                    "  {:>12}  {:>14.6}  {:>12.3e}  {}{}\n",
+                    "  {:>12}  {:>14.6}  {:>12.3e}  {}{}{}\n",
                     fmt_value(&ParamValue::Number(p.x)),
                     p.y,
                     p.error,
@@ -255,6 +316,11 @@ impl CurvePlot {
                         ""
                     } else {
                         "  not steady: not a result"
+                    },
+                    if p.disagrees() {
+                        format!("  {DISAGREE} labels differ: {}", labels_text(&p.labels))
+                    } else {
+                        String::new()
                     }
                 ));
             }
@@ -280,7 +346,17 @@ impl CurvePlot {
         if self.not_done > 0 {
             out.push_str(&format!("({} jobs not done)\n", self.not_done));
         }
+        if self.disagrees() {
+            out.push_str(&format!("{DISAGREE} {POINT_DISAGREE_LEGEND}\n"));
+        }
         out
+    }
+
+    /// Whether any point averages jobs whose labels differ.
+    pub fn disagrees(&self) -> bool {
+        self.series
+            .iter()
+            .any(|s| s.points.iter().any(Point::disagrees))
     }
 
     /// The file stem `plot-<y>-<x>[-by-<by>]`.
@@ -291,19 +367,28 @@ impl CurvePlot {
         }
     }
 
-    /// The plot as PNG bytes (pages that inline it).
-    pub fn png(&self) -> anyhow::Result<Vec<u8>> {
-        crate::figure::render_png((820, 560), |root| self.draw(root))
+    /// The plot as PNG bytes at the size and resolution asked (pages that inline it).
+    pub fn png(&self, sizing: &Sizing) -> anyhow::Result<Vec<u8>> {
+        let css = sizing.css(SIZE);
+        crate::figure::render_png(css, sizing.scale(), |root, s| self.draw(root, css, s))
     }
 
-    /// Write the plot as PNG.
-    pub fn write_png(&self, path: &Path) -> anyhow::Result<()> {
-        crate::figure::save_png(path, (820, 560), |root| self.draw(root))
+    /// Write the plot as PNG at the size and resolution asked.
+    pub fn write_png(&self, path: &Path, sizing: &Sizing) -> anyhow::Result<()> {
+        let css = sizing.css(SIZE);
+        crate::figure::save_png(path, css, sizing.scale(), |root, s| self.draw(root, css, s))
     }
 
-    /// Write the plot as SVG.
-    pub fn write_svg(&self, path: &Path) -> anyhow::Result<()> {
-        crate::figure::save_svg(path, (820, 560), |root| self.draw(root))
+    /// Write the plot as SVG at the size asked.
+    pub fn write_svg(&self, path: &Path, sizing: &Sizing) -> anyhow::Result<()> {
+        let css = sizing.css(SIZE);
+        crate::figure::save_svg(path, css, |root, s| self.draw(root, css, s))
+    }
+
+    /// The plot as SVG text at the size asked.
+    pub fn svg(&self, sizing: &Sizing) -> anyhow::Result<String> {
+        let css = sizing.css(SIZE);
+        crate::figure::render_svg(css, |root, s| self.draw(root, css, s))
     }
 
     fn ranges(&self) -> ((f64, f64), (f64, f64)) {
@@ -343,6 +428,8 @@ impl CurvePlot {
     fn draw<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
+        (w, h): (u32, u32),
+        s: Scale,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         root.fill(&WHITE)?;
         let ((x0, x1), (y0, y1)) = self.ranges();
@@ -355,29 +442,55 @@ impl CurvePlot {
             ),
             None => format!("{} over {}", self.y, self.x_label),
         };
+        // the plotting area's extent in CSS pixels, for the ticks of log axes
+        let plot_w = f64::from(w) - f64::from(2 * MARGIN + Y_AREA);
+        let plot_h = f64::from(h) - f64::from(2 * MARGIN + X_AREA) - 1.6 * CAPTION;
+        let x_ticks = ticks::log_ticks(x0, x1, plot_w, LABEL, Axis::Horizontal);
+        let y_ticks = ticks::log_ticks(y0, y1, plot_h, LABEL, Axis::Vertical);
+        let x_format = |v: &f64| {
+            if self.log_x {
+                ticks::label(*v)
+            } else {
+                ticks::short(*v)
+            }
+        };
+        let y_format = |v: &f64| {
+            if self.log_y {
+                ticks::label(*v)
+            } else {
+                ticks::short(*v)
+            }
+        };
         // four coordinate kinds (linear or log on each axis) share one drawing routine
         macro_rules! chart {
             ($xr:expr, $yr:expr) => {{
                 let mut chart = ChartBuilder::on(root)
-                    .caption(caption.clone(), ("sans-serif", 18))
-                    .margin(14)
-                    .x_label_area_size(42)
-                    .y_label_area_size(70)
+                    .caption(caption.clone(), s.font(CAPTION))
+                    .margin(s.px(MARGIN))
+                    .x_label_area_size(s.px(X_AREA))
+                    .y_label_area_size(s.px(Y_AREA))
                     .build_cartesian_2d($xr, $yr)?;
-                chart
-                    .configure_mesh()
+                let mut mesh = chart.configure_mesh();
+                crate::figure::mesh_style(&mut mesh, s, LABEL)
                     .x_desc(self.x_label.clone())
                     .y_desc(self.y.clone())
-                    .label_style(("sans-serif", 13))
+                    .x_label_formatter(&x_format)
+                    .y_label_formatter(&y_format)
                     .draw()?;
-                self.draw_series(&mut chart)?;
+                self.draw_series(&mut chart, s)?;
             }};
         }
+        let log = |lo: f64, hi: f64, ticks: Vec<f64>| {
+            (lo..hi)
+                .log_scale()
+                .with_key_points(ticks)
+                .with_light_points(ticks::log_grid(lo, hi))
+        };
         match (self.log_x, self.log_y) {
             (false, false) => chart!(x0..x1, y0..y1),
-            (true, false) => chart!((x0..x1).log_scale(), y0..y1),
-            (false, true) => chart!(x0..x1, (y0..y1).log_scale()),
-            (true, true) => chart!((x0..x1).log_scale(), (y0..y1).log_scale()),
+            (true, false) => chart!(log(x0, x1, x_ticks), y0..y1),
+            (false, true) => chart!(x0..x1, log(y0, y1, y_ticks)),
+            (true, true) => chart!(log(x0, x1, x_ticks), log(y0, y1, y_ticks)),
         }
         Ok(())
     }
@@ -385,15 +498,18 @@ impl CurvePlot {
     fn draw_series<'a, DB, CT>(
         &self,
         chart: &mut ChartContext<'a, DB, CT>,
+        s: Scale,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>
     where
         DB: DrawingBackend + 'a,
         CT: CoordTranslate<From = (f64, f64)>,
     {
         let mut any_invalid = false;
-        for (i, s) in self.series.iter().enumerate() {
+        let mut any_disagree = false;
+        let (radius, key) = (s.px(4), s.px(18));
+        for (i, series) in self.series.iter().enumerate() {
             let colour = Palette99::pick(i).to_rgba();
-            let drawable: Vec<&Point> = s
+            let drawable: Vec<&Point> = series
                 .points
                 .iter()
                 .filter(|p| p.y.is_finite() && (!self.log_x || p.x > 0.0))
@@ -404,47 +520,197 @@ impl CurvePlot {
                 .map(|p| (p.x, p.y))
                 .collect();
             let label = match &self.by {
-                Some(by) => format!("{} = {}", self.by_symbol.as_deref().unwrap_or(by), s.name),
-                None => s.name.clone(),
+                Some(by) => format!(
+                    "{} = {}",
+                    self.by_symbol.as_deref().unwrap_or(by),
+                    series.name
+                ),
+                None => series.name.clone(),
             };
+            let line = s.line(2.0);
             chart
-                .draw_series(LineSeries::new(valid_line, colour.stroke_width(2)))?
+                .draw_series(LineSeries::new(valid_line, colour.stroke_width(line)))?
                 .label(label)
                 .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                    PathElement::new(vec![(x, y), (x + key, y)], colour.stroke_width(line))
                 });
             for p in &drawable {
                 if p.error.is_finite() && p.error > 0.0 {
                     chart.draw_series(std::iter::once(PathElement::new(
                         vec![(p.x, p.y - p.error), (p.x, p.y + p.error)],
-                        colour.stroke_width(1),
+                        colour.stroke_width(s.line(1.0)),
                     )))?;
                 }
                 let style = if p.valid {
                     colour.filled()
                 } else {
                     any_invalid = true;
-                    colour.stroke_width(1)
+                    colour.stroke_width(s.line(1.0))
                 };
-                chart.draw_series(std::iter::once(Circle::new((p.x, p.y), 4, style)))?;
+                chart.draw_series(std::iter::once(Circle::new((p.x, p.y), radius, style)))?;
+                if p.disagrees() {
+                    any_disagree = true;
+                    // beside the point, on the side towards the middle of the plot
+                    let (px, _) = chart.plotting_area().map_coordinate(&(p.x, p.y));
+                    let span = chart.plotting_area().get_pixel_range().0;
+                    let (dx, h) = if px < (span.start + span.end) / 2 {
+                        (s.px(7), HPos::Left)
+                    } else {
+                        (-s.px(7), HPos::Right)
+                    };
+                    let style =
+                        TextStyle::from(s.font(DISAGREE_SIZE)).pos(Pos::new(h, VPos::Center));
+                    chart.draw_series(std::iter::once(
+                        EmptyElement::at((p.x, p.y)) + Text::new(DISAGREE, (dx, 0), style),
+                    ))?;
+                }
             }
         }
+        let grey = RGBColor(90, 90, 90);
         if any_invalid {
-            let grey = RGBColor(90, 90, 90);
             chart
                 .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
                 .label("hollow: not steady (not a result)")
-                .legend(move |(x, y)| Circle::new((x + 9, y), 4, grey.stroke_width(1)));
+                .legend(move |(x, y)| {
+                    Circle::new((x + key / 2, y), radius, grey.stroke_width(s.line(1.0)))
+                });
         }
+        if any_disagree {
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
+                .label(POINT_DISAGREE_LEGEND)
+                .legend(move |(x, y)| {
+                    Text::new(
+                        DISAGREE,
+                        (x + key / 2, y),
+                        TextStyle::from(s.font(DISAGREE_SIZE))
+                            .pos(Pos::new(HPos::Center, VPos::Center)),
+                    )
+                });
+        }
+        let mut labels: Vec<String> = self
+            .series
+            .iter()
+            .map(|series| match &self.by {
+                Some(by) => format!(
+                    "{} = {}",
+                    self.by_symbol.as_deref().unwrap_or(by),
+                    series.name
+                ),
+                None => series.name.clone(),
+            })
+            .collect();
+        if any_invalid {
+            labels.push("hollow: not steady (not a result)".into());
+        }
+        if any_disagree {
+            labels.push(POINT_DISAGREE_LEGEND.into());
+        }
+        let corner = self.legend_corner(chart, &labels, s);
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(corner)
+            .margin(s.px(10))
+            .legend_area_size(s.px(30))
             .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
+            .border_style(BLACK.stroke_width(s.line(1.0)))
+            .label_font(s.font(LABEL))
             .draw()?;
         Ok(())
     }
+
+    /// Where in the plot the legend box (entries `labels`) covers the fewest points and
+    /// pieces of line: a corner, else the middle of a side, else the centre; upper right
+    /// first.
+    fn legend_corner<'a, DB, CT>(
+        &self,
+        chart: &ChartContext<'a, DB, CT>,
+        labels: &[String],
+        s: Scale,
+    ) -> SeriesLabelPosition
+    where
+        DB: DrawingBackend + 'a,
+        CT: CoordTranslate<From = (f64, f64)>,
+    {
+        use SeriesLabelPosition as At;
+        let (xs, ys) = chart.plotting_area().get_pixel_range();
+        // the box: key area, widest label and margins; a line per entry
+        let widest = labels
+            .iter()
+            .map(|l| crate::figure::text::width(l, LABEL))
+            .fold(0.0, f64::max);
+        let (w, h) = (
+            s.px(widest + 30.0 + 30.0),
+            s.px(20.0 + 18.0 * labels.len() as f64),
+        );
+        // the points and 16 samples along each segment between drawn points, device pixels
+        let mut ink: Vec<(i32, i32)> = Vec::new();
+        for series in &self.series {
+            let at: Vec<(i32, i32)> = series
+                .points
+                .iter()
+                .filter(|p| {
+                    p.y.is_finite() && (!self.log_x || p.x > 0.0) && (!self.log_y || p.y > 0.0)
+                })
+                .map(|p| chart.plotting_area().map_coordinate(&(p.x, p.y)))
+                .collect();
+            for pair in at.windows(2) {
+                for k in 1..16 {
+                    let t = f64::from(k) / 16.0;
+                    let lerp = |a: i32, b: i32| a + (t * f64::from(b - a)).round() as i32;
+                    ink.push((lerp(pair[0].0, pair[1].0), lerp(pair[0].1, pair[1].1)));
+                }
+            }
+            ink.extend(at);
+        }
+        let span = |range: &std::ops::Range<i32>, size: i32, side: i8| match side {
+            -1 => (range.start, range.start + size),
+            1 => (range.end - size, range.end),
+            _ => {
+                let mid = (range.start + range.end) / 2;
+                (mid - size / 2, mid + size / 2)
+            }
+        };
+        let pad = s.px(8);
+        let covered = |horizontal: i8, vertical: i8| {
+            let (x0, x1) = span(&xs, w, horizontal);
+            let (y0, y1) = span(&ys, h, vertical);
+            ink.iter()
+                .filter(|(x, y)| {
+                    (x0 - pad..=x1 + pad).contains(x) && (y0 - pad..=y1 + pad).contains(y)
+                })
+                .count()
+        };
+        [
+            (1, -1, At::UpperRight),
+            (-1, -1, At::UpperLeft),
+            (1, 1, At::LowerRight),
+            (-1, 1, At::LowerLeft),
+            (1, 0, At::MiddleRight),
+            (-1, 0, At::MiddleLeft),
+            (0, -1, At::UpperMiddle),
+            (0, 1, At::LowerMiddle),
+            (0, 0, At::MiddleMiddle),
+        ]
+        .into_iter()
+        .min_by_key(|(h, v, _)| covered(*h, *v))
+        .map_or(At::UpperRight, |c| c.2)
+    }
+}
+
+/// Font size of the [`DISAGREE`] mark beside a point, CSS pixels.
+const DISAGREE_SIZE: f64 = 18.0;
+
+/// The legend line of the [`DISAGREE`] mark of a curve point.
+pub const POINT_DISAGREE_LEGEND: &str = "the point averages jobs whose labels differ";
+
+/// "plug (2 jobs), homogeneous (1 job)".
+fn labels_text(labels: &[(String, usize)]) -> String {
+    labels
+        .iter()
+        .map(|(l, n)| format!("{l} ({n} {})", if *n == 1 { "job" } else { "jobs" }))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The minimum of a curve over its valid points (in increasing x); None without valid points.
@@ -506,7 +772,13 @@ pub fn minimum(points: &[Point], log_x: bool) -> Option<Minimum> {
 
 /// True when the curve rises to a significant interior maximum (the minimum rule applied to -y).
 fn has_interior_maximum(points: &[Point], log_x: bool) -> bool {
-    let flipped: Vec<Point> = points.iter().map(|p| Point { y: -p.y, ..*p }).collect();
+    let flipped: Vec<Point> = points
+        .iter()
+        .map(|p| Point {
+            y: -p.y,
+            ..p.clone()
+        })
+        .collect();
     minimum(&flipped, log_x).is_some_and(|m| m.interior)
 }
 
@@ -596,6 +868,16 @@ mod tests {
             error,
             jobs: 1,
             valid: true,
+            labels: vec![("plug".into(), 1)],
+        }
+    }
+
+    fn sample(y: f64, error: f64, valid: bool, label: &str) -> Sample {
+        Sample {
+            y,
+            error,
+            valid,
+            label: label.into(),
         }
     }
 
@@ -663,9 +945,29 @@ mod tests {
 
     #[test]
     fn replicas_combine_into_a_mean_with_a_combined_error() {
-        let pt = point(1.0, &[(1.0, 0.1, true), (3.0, 0.1, true)]);
+        let pt = point(
+            1.0,
+            &[
+                sample(1.0, 0.1, true, "plug"),
+                sample(3.0, 0.1, true, "plug"),
+            ],
+        );
         assert_eq!(pt.y, 2.0);
         assert!((pt.error - 0.1 / 2f64.sqrt()).abs() < 1e-15);
-        assert!(point(1.0, &[(1.0, 0.1, true), (3.0, 0.1, false)]).valid == false);
+        assert!(!pt.disagrees());
+        let pooled = point(
+            1.0,
+            &[
+                sample(1.0, 0.1, true, "plug"),
+                sample(3.0, 0.1, false, "homogeneous"),
+            ],
+        );
+        assert!(!pooled.valid);
+        // jobs whose labels differ are counted apart and the point is marked
+        assert!(pooled.disagrees());
+        assert_eq!(
+            pooled.labels,
+            [("homogeneous".to_string(), 1), ("plug".to_string(), 1)]
+        );
     }
 }

@@ -168,10 +168,9 @@ pub fn run_job(
     let analysis = analyser
         .analyse(&records)
         .map_err(|e| anyhow::anyhow!("analysing the job's {} records: {e}", records.len()))?;
-    analysis.write_figures(dir)?;
     // the figures are a view of the result: one that cannot be drawn is logged, not a failed
     // job (a full disk still stops the run, as any other write does)
-    let figures = crate::report::job_figures::figures(&analysis, &records);
+    let figures = crate::report::job_figures::figures(job, &analysis, &records);
     if let Err(e) = crate::report::job_figures::write(dir, &figures) {
         if super::fs_error::is_resource_error(&e) {
             return Err(e);

@@ -5,6 +5,8 @@
 use super::tables::GatheredJob;
 use crate::engine::declare::ParamDefault;
 use crate::engine::{EngineDef, ParamValue};
+use crate::figure::text::Heading;
+use crate::figure::{Scale, Sizing};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
@@ -122,8 +124,35 @@ impl Cell {
         })
     }
 
+    /// The labels of the cell's done jobs as each job gave it (with humps; "not-steady" for a
+    /// job that is not steady, which the verdict leaves out) and how many jobs gave each, most
+    /// first.
+    pub fn job_labels(&self) -> Vec<(String, usize)> {
+        let mut out: Vec<(String, usize)> = Vec::new();
+        for j in &self.jobs {
+            let key = if j.steady {
+                crate::analysis::labels::label_key(&j.label, j.humps)
+            } else {
+                "not-steady".to_string()
+            };
+            match out.iter_mut().find(|(k, _)| *k == key) {
+                Some(k) => k.1 += 1,
+                None => out.push((key, 1)),
+            }
+        }
+        out.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        out
+    }
+
+    /// Whether the cell pools jobs whose labels differ (seeds, or a parameter that is not an
+    /// axis): its verdict then hides a disagreement and the cell is marked [`DISAGREE`].
+    pub fn disagrees(&self) -> bool {
+        self.job_labels().len() > 1
+    }
+
     /// Text of the cell: `label[p]` (`label(humps)[p]`), `mixed[a/b]`, `not-steady`, with
-    /// `!tc` when a collapse guard went beyond its validity, and `[n not done]`.
+    /// `!tc` when a collapse guard went beyond its validity, [`DISAGREE`] when its jobs' labels
+    /// differ, and `[n not done]`.
     pub fn text(&self) -> String {
         let mut parts: Vec<String> = Vec::new();
         if let Some(v) = self.verdict() {
@@ -150,6 +179,9 @@ impl Cell {
             if v.guard_flagged {
                 t.push_str("!tc");
             }
+            if self.disagrees() {
+                t.push_str(DISAGREE);
+            }
             parts.push(t);
         }
         if self.not_done > 0 {
@@ -162,6 +194,10 @@ impl Cell {
         }
     }
 }
+
+/// The mark of a cell (or curve point) whose jobs' labels differ, in the text tables and the
+/// pictures.
+pub const DISAGREE: &str = "\u{2260}";
 
 /// A phase diagram over parameter `x` (and `y`, or a strip).
 #[derive(Clone, Debug, PartialEq)]
@@ -179,28 +215,13 @@ pub struct PhaseDiagram {
     pub frame: Frame,
 }
 
-/// How a diagram is framed: its size, the PNG's resolution and its title.
-#[derive(Clone, Debug, PartialEq)]
+/// How a diagram is framed: its size and resolution, and its title.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Frame {
-    /// picture size in CSS pixels (None: from the grid, the title and the legend)
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    /// PNG resolution in dots per inch: 96 draws one pixel per CSS pixel, 192 twice as many
-    /// each way (SVG is vector: it has none)
-    pub dpi: f64,
+    /// size in CSS pixels (None: from the grid, the title and the legend) and PNG resolution
+    pub size: Sizing,
     /// title lines, each wrapped to the width at ", " ([`title`])
     pub title: Vec<String>,
-}
-
-impl Default for Frame {
-    fn default() -> Self {
-        Frame {
-            width: None,
-            height: None,
-            dpi: 96.0,
-            title: Vec::new(),
-        }
-    }
 }
 
 /// The swept parameters that vary independently of the shown `axes`: a parameter linked to a
@@ -426,13 +447,41 @@ impl PhaseDiagram {
                 out.push('\n');
             }
         }
+        out.push_str(&self.disagreements());
+        out
+    }
+
+    /// The legend of the [`DISAGREE`] mark under the text table: per marked cell, its point
+    /// and the labels its jobs gave (empty when no cell is marked).
+    pub fn disagreements(&self) -> String {
+        let marked: Vec<(&(usize, usize), &Cell)> =
+            self.cells.iter().filter(|(_, c)| c.disagrees()).collect();
+        if marked.is_empty() {
+            return String::new();
+        }
+        let mut out = format!(
+            "{DISAGREE} the cell pools jobs whose labels differ (seeds, or parameters that are not \
+             axes); its label is the pooled verdict:\n"
+        );
+        for ((xi, yi), cell) in marked {
+            let mut at = format!("{} = {}", self.x, fmt_value(&self.xs[*xi]));
+            if let Some(y) = &self.y {
+                at.push_str(&format!(", {y} = {}", fmt_value(&self.ys[*yi])));
+            }
+            let labels: Vec<String> = cell
+                .job_labels()
+                .iter()
+                .map(|(l, n)| format!("{l} ({n} {})", if *n == 1 { "job" } else { "jobs" }))
+                .collect();
+            out.push_str(&format!("  {at}: {}\n", labels.join(", ")));
+        }
         out
     }
 
     /// Write the diagram as SVG (at its size in CSS pixels; vector, so the resolution does
     /// not apply).
     pub fn write_svg(&self, path: &Path) -> anyhow::Result<()> {
-        crate::figure::save_svg(path, self.size(), |root| self.draw(root, 1.0))
+        crate::figure::save_svg(path, self.size(), |root, s| self.draw(root, s))
     }
 
     /// Write the diagram as PNG (RGB, 8 bit) at the frame's resolution.
@@ -446,22 +495,18 @@ impl PhaseDiagram {
 
     /// The diagram as PNG bytes at the frame's resolution.
     pub fn png(&self) -> anyhow::Result<Vec<u8>> {
-        let scale = self.frame.dpi / 96.0;
-        let (w, h) = self.size();
-        let pixels = (
-            (w as f64 * scale).round() as u32,
-            (h as f64 * scale).round() as u32,
-        );
-        crate::figure::render_png(pixels, |root| self.draw(root, scale))
+        crate::figure::render_png(self.size(), self.frame.size.scale(), |root, s| {
+            self.draw(root, s)
+        })
     }
 
     /// The picture's size in CSS pixels: the frame's, or from the grid, the title and the
     /// legend.
     pub fn size(&self) -> (u32, u32) {
-        let w = self.frame.width.unwrap_or_else(|| {
+        let w = self.frame.size.width.unwrap_or_else(|| {
             (LEFT + LEGEND_WIDTH + 20 + 110 * self.xs.len() as i32).max(700) as u32
         });
-        let h = self.frame.height.unwrap_or_else(|| {
+        let h = self.frame.size.height.unwrap_or_else(|| {
             let legend = 24 * self.legend().len() as i32 + 20;
             let plot = (90 * self.ys.len() as i32).max(legend).max(160);
             (self.top(w) + plot + BOTTOM) as u32
@@ -469,19 +514,16 @@ impl PhaseDiagram {
         (w, h)
     }
 
-    /// Height above the plot (title lines), in CSS pixels.
-    fn top(&self, width: u32) -> i32 {
-        20 + 20 * self.title_lines(width).len() as i32
+    /// The title as a heading.
+    fn heading(&self) -> Heading {
+        Heading {
+            lines: self.frame.title.clone(),
+        }
     }
 
-    /// The title wrapped to the width (at ", " where it can).
-    fn title_lines(&self, width: u32) -> Vec<String> {
-        let chars = ((width as f64 - 20.0) / TITLE_CHAR_WIDTH).max(20.0) as usize;
-        self.frame
-            .title
-            .iter()
-            .flat_map(|line| wrap(line, chars))
-            .collect()
+    /// Height above the plot (the title and a gap), in CSS pixels.
+    fn top(&self, width: u32) -> i32 {
+        self.heading().height(width) as i32 + 14
     }
 
     /// What the legend explains, in order: each marker shown, then the numbers and marks
@@ -508,20 +550,22 @@ impl PhaseDiagram {
         if verdicts.iter().flatten().any(|v| v.guard_flagged) {
             out.push(Legend::Guard);
         }
+        if self.cells.values().any(Cell::disagrees) {
+            out.push(Legend::Disagree);
+        }
         out
     }
 
     fn draw<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
-        scale: f64,
+        s: Scale,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         use plotters::style::text_anchor::{HPos, Pos, VPos};
         root.fill(&WHITE)?;
-        // layout in CSS pixels, drawn at `scale` device pixels each
-        let u = |v: i32| (v as f64 * scale).round() as i32;
+        // layout in CSS pixels, drawn through the scale
+        let u = |v: i32| s.px(v);
         let (w, h) = self.size();
-        let title = self.title_lines(w);
         let top = self.top(w);
         let plot_w = (w as i32 - LEFT - LEGEND_WIDTH).max(40);
         let plot_h = (h as i32 - top - BOTTOM).max(40);
@@ -529,19 +573,14 @@ impl PhaseDiagram {
         let ny = self.ys.len().max(1) as i32;
         let px = |xi: usize| LEFT + (2 * xi as i32 + 1) * plot_w / (2 * nx);
         let py = |yi: usize| top + plot_h - (2 * yi as i32 + 1) * plot_h / (2 * ny);
-        let font = |size: f64| ("sans-serif", size * scale).into_font();
+        let font = |size: f64| s.font(size);
         let centred =
             |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
-        for (i, line) in title.iter().enumerate() {
-            root.draw(&Text::new(
-                line.clone(),
-                (u(10), u(10 + 20 * i as i32)),
-                font(if i == 0 { 15.0 } else { 13.0 }),
-            ))?;
-        }
+        let black = BLACK.stroke_width(s.line(1.0));
+        self.heading().draw(root, w, s)?;
         root.draw(&Rectangle::new(
             [(u(LEFT), u(top)), (u(LEFT + plot_w), u(top + plot_h))],
-            BLACK.stroke_width(scale.round().max(1.0) as u32),
+            black,
         ))?;
         for (xi, v) in self.xs.iter().enumerate() {
             root.draw(&PathElement::new(
@@ -549,7 +588,7 @@ impl PhaseDiagram {
                     (u(px(xi)), u(top + plot_h)),
                     (u(px(xi)), u(top + plot_h + 5)),
                 ],
-                BLACK,
+                black,
             ))?;
             root.draw(&Text::new(
                 fmt_value(v),
@@ -566,7 +605,7 @@ impl PhaseDiagram {
             for (yi, v) in self.ys.iter().enumerate() {
                 root.draw(&PathElement::new(
                     vec![(u(LEFT - 5), u(py(yi))), (u(LEFT), u(py(yi)))],
-                    BLACK,
+                    black,
                 ))?;
                 root.draw(&Text::new(
                     fmt_value(v),
@@ -602,7 +641,16 @@ impl PhaseDiagram {
                         ))?;
                     }
                     if v.guard_flagged {
-                        root.draw(&Circle::new((x, y), u(16), red.stroke_width(u(2) as u32)))?;
+                        root.draw(&Circle::new((x, y), u(16), red.stroke_width(s.line(2.0))))?;
+                    }
+                    if cell.disagrees() {
+                        // left of the marker, where neither humps nor probability go
+                        root.draw(&Text::new(
+                            DISAGREE,
+                            (x - u(16), y),
+                            TextStyle::from(font(DISAGREE_SIZE))
+                                .pos(Pos::new(HPos::Right, VPos::Center)),
+                        ))?;
                     }
                 }
                 None => {
@@ -632,8 +680,16 @@ impl PhaseDiagram {
                     "no job done yet".into()
                 }
                 Legend::Guard => {
-                    root.draw(&Circle::new(at, u(9), red.stroke_width(u(2) as u32)))?;
+                    root.draw(&Circle::new(at, u(9), red.stroke_width(s.line(2.0))))?;
                     "collapse guard beyond validity".into()
+                }
+                Legend::Disagree => {
+                    root.draw(&Text::new(
+                        DISAGREE,
+                        at,
+                        centred(DISAGREE_SIZE, VPos::Center),
+                    ))?;
+                    DISAGREE_LEGEND.into()
                 }
             };
             root.draw(&Text::new(
@@ -651,8 +707,10 @@ impl PhaseDiagram {
 const LEFT: i32 = 110;
 const BOTTOM: i32 = 70;
 const LEGEND_WIDTH: i32 = 290;
-/// Advance of one character of the 15 px title font (DejaVu Sans Mono as plotters draws it).
-const TITLE_CHAR_WIDTH: f64 = 7.8;
+/// Font size of the [`DISAGREE`] mark, CSS pixels.
+const DISAGREE_SIZE: f64 = 20.0;
+/// The legend line of the [`DISAGREE`] mark.
+pub const DISAGREE_LEGEND: &str = "jobs in the cell disagree (labels differ)";
 /// The dot of a cell without a done job.
 const GREY_DOT: RGBColor = RGBColor(180, 180, 180);
 
@@ -669,29 +727,8 @@ enum Legend {
     NotDone,
     /// the red ring of a flagged collapse guard
     Guard,
-}
-
-/// Split `text` into lines of at most `chars` characters, at ", " where possible.
-fn wrap(text: &str, chars: usize) -> Vec<String> {
-    let mut lines: Vec<String> = Vec::new();
-    let mut line = String::new();
-    for (i, part) in text.split(", ").enumerate() {
-        let piece = if i == 0 {
-            part.to_string()
-        } else {
-            format!(", {part}")
-        };
-        if !line.is_empty() && line.chars().count() + piece.chars().count() > chars {
-            lines.push(line.trim_end_matches(',').to_string());
-            line = piece.trim_start_matches(", ").to_string();
-        } else {
-            line.push_str(&piece);
-        }
-    }
-    if !line.is_empty() {
-        lines.push(line);
-    }
-    lines
+    /// the mark of a cell whose jobs' labels differ
+    Disagree,
 }
 
 /// The axis label of a parameter: its symbol, unit (when it has one) and key, e.g.
@@ -926,7 +963,11 @@ mod tests {
         };
         let v = split.verdict().unwrap();
         assert_eq!(v.label, "mixed");
-        assert_eq!(split.text(), "mixed[slug:0.60/wavy-slug:0.40]+[1-not-done]");
+        // the two replicas gave different labels: marked
+        assert_eq!(
+            split.text(),
+            format!("mixed[slug:0.60/wavy-slug:0.40]{DISAGREE}+[1-not-done]")
+        );
 
         // weights: a long window counts more; a not-steady replica does not count, a flagged
         // collapse guard is shown
@@ -942,7 +983,11 @@ mod tests {
         assert_eq!((v.label.as_str(), v.humps), ("s-wave", 2));
         assert!((v.probability - 0.75).abs() < 1e-12);
         assert!(v.guard_flagged);
-        assert_eq!(weighted.text(), "s-wave(2)[0.75]!tc");
+        assert_eq!(weighted.text(), format!("s-wave(2)[0.75]!tc{DISAGREE}"));
+        assert_eq!(
+            weighted.job_labels(),
+            [("not-steady", 1), ("plug", 1), ("s-wave(2)", 1)].map(|(l, n)| (l.to_string(), n))
+        );
 
         let unsteady = Cell {
             jobs: vec![job("slug 1.00", 10.0, false, true)],
