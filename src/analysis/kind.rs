@@ -4,6 +4,7 @@
 //! engine's declaration names its kind; a new kind of analysis is added here.
 
 use super::columns::{Cell, ColumnDef, ColumnKind, TableDef};
+use super::dense::{DenseAnalysis, DenseRecord, DenseSettings};
 use super::lattice::{LatticeAnalysis, LatticeRecord, LatticeSettings};
 use super::rarefied::{RarefiedAnalysis, RarefiedRecord, RarefiedSettings};
 use super::{AnalysisSettings, JobAnalysis, SnapshotRecord};
@@ -24,6 +25,9 @@ pub enum AnalysisKind {
     /// profiles, flow rate, slips, normal-stress differences, balances, mixture segregation,
     /// each with a block-average error over the detected steady window
     Rarefied,
+    /// a dense frictional flow by DEM (Debnath, Rao & Kumaran 2022): for now the mean
+    /// centre-of-mass velocity and the wall-force balance with block errors, and a label
+    Dense,
 }
 
 /// A kind's settings, ready to record and analyse.
@@ -32,6 +36,7 @@ pub enum Analyser {
     Structure(AnalysisSettings),
     Lattice(LatticeSettings),
     Rarefied(RarefiedSettings),
+    Dense(DenseSettings),
 }
 
 /// What one snapshot contributes, by kind.
@@ -40,6 +45,7 @@ pub enum Record {
     Structure(SnapshotRecord),
     Lattice(LatticeRecord),
     Rarefied(Box<RarefiedRecord>),
+    Dense(Box<DenseRecord>),
 }
 
 /// A job's analysis, by kind (untagged in `result.ron`: results written before there were
@@ -50,6 +56,7 @@ pub enum Analysis {
     Structure(JobAnalysis),
     Lattice(LatticeAnalysis),
     Rarefied(RarefiedAnalysis),
+    Dense(DenseAnalysis),
 }
 
 impl AnalysisKind {
@@ -61,6 +68,7 @@ impl AnalysisKind {
             AnalysisKind::Structure => 2,
             AnalysisKind::Lattice => 1,
             AnalysisKind::Rarefied => 1,
+            AnalysisKind::Dense => 1,
         }
     }
 
@@ -98,6 +106,12 @@ impl AnalysisKind {
                 s.validate()?;
                 Ok(Analyser::Rarefied(s))
             }
+            AnalysisKind::Dense => {
+                let s: DenseSettings = serde_json::from_value(given)
+                    .map_err(|e| format!("{e}; allowed keys: blocks"))?;
+                s.validate()?;
+                Ok(Analyser::Dense(s))
+            }
         }
     }
 
@@ -112,6 +126,9 @@ impl AnalysisKind {
             }
             AnalysisKind::Rarefied => {
                 serde_json::to_value(RarefiedSettings::default()).expect("settings serialise")
+            }
+            AnalysisKind::Dense => {
+                serde_json::to_value(DenseSettings::default()).expect("settings serialise")
             }
         }
     }
@@ -131,6 +148,8 @@ impl AnalysisKind {
             AnalysisKind::Rarefied => Value::Object(rarefied_summary(
                 &super::rarefied::RarefiedSummary::default(),
             )),
+            AnalysisKind::Dense => serde_json::to_value(super::dense::DenseSummary::default())
+                .expect("summary serialises"),
         };
         let Value::Object(map) = empty else {
             return Vec::new();
@@ -149,6 +168,7 @@ impl AnalysisKind {
             AnalysisKind::Structure => STRUCTURE_TABLES,
             AnalysisKind::Lattice => LATTICE_TABLES,
             AnalysisKind::Rarefied => RAREFIED_TABLES,
+            AnalysisKind::Dense => &[],
         }
     }
 }
@@ -375,6 +395,7 @@ impl Analyser {
             Analyser::Structure(s) => serde_json::to_value(s).expect("settings serialise"),
             Analyser::Lattice(s) => serde_json::to_value(s).expect("settings serialise"),
             Analyser::Rarefied(s) => serde_json::to_value(s).expect("settings serialise"),
+            Analyser::Dense(s) => serde_json::to_value(s).expect("settings serialise"),
         }
     }
 
@@ -402,6 +423,12 @@ impl Analyser {
                     "the rarefied analysis needs sampled moments, and this engine's snapshots carry none",
                 )?;
                 Ok(Record::Rarefied(Box::new(sample.clone())))
+            }
+            Analyser::Dense(_) => {
+                let sample = snapshot.dem().ok_or(
+                    "the dense analysis needs DEM bin sums, and this engine's snapshots carry none",
+                )?;
+                Ok(Record::Dense(Box::new(sample.record.clone())))
             }
         }
     }
@@ -440,6 +467,16 @@ impl Analyser {
                     .collect();
                 super::rarefied::analyse(&records, s).map(Analysis::Rarefied)
             }
+            Analyser::Dense(s) => {
+                let records: Vec<DenseRecord> = records
+                    .iter()
+                    .filter_map(|r| match r {
+                        Record::Dense(r) => Some((**r).clone()),
+                        _ => None,
+                    })
+                    .collect();
+                Ok(Analysis::Dense(super::dense::analyse(&records, s)))
+            }
         }
     }
 }
@@ -472,7 +509,7 @@ impl Analyser {
                 super::steady_over(&records, s, clock, window, &mut check.structure)
             }
             // validation refuses `until_steady` for kinds without a steady rule
-            Analyser::Lattice(_) | Analyser::Rarefied(_) => None,
+            Analyser::Lattice(_) | Analyser::Rarefied(_) | Analyser::Dense(_) => None,
         }
     }
 }
@@ -484,6 +521,7 @@ impl Record {
             Record::Structure(r) => r.time,
             Record::Lattice(r) => r.step as f64,
             Record::Rarefied(r) => r.sums.end_step as f64,
+            Record::Dense(r) => r.sums.end_step as f64 * r.constants.time_step,
         }
     }
 }
@@ -502,6 +540,7 @@ impl Analysis {
                 },
                 0,
             ),
+            Analysis::Dense(a) => (&a.dense_summary.label, 0),
         }
     }
 
@@ -509,7 +548,7 @@ impl Analysis {
     /// written.
     pub fn write_figures(&self, dir: &std::path::Path) -> anyhow::Result<Vec<String>> {
         match self {
-            Analysis::Structure(_) | Analysis::Rarefied(_) => Ok(Vec::new()),
+            Analysis::Structure(_) | Analysis::Rarefied(_) | Analysis::Dense(_) => Ok(Vec::new()),
             Analysis::Lattice(a) => {
                 super::lattice::plot_spacetime(a, &dir.join("spacetime.png"))?;
                 Ok(vec!["spacetime.png".into()])
@@ -523,6 +562,7 @@ impl Analysis {
             Analysis::Structure(_) => AnalysisKind::Structure,
             Analysis::Lattice(_) => AnalysisKind::Lattice,
             Analysis::Rarefied(_) => AnalysisKind::Rarefied,
+            Analysis::Dense(_) => AnalysisKind::Dense,
         }
     }
 
@@ -532,6 +572,7 @@ impl Analysis {
             Analysis::Structure(a) => serde_json::to_value(&a.summary),
             Analysis::Lattice(a) => serde_json::to_value(&a.summary),
             Analysis::Rarefied(a) => return rarefied_summary(&a.summary),
+            Analysis::Dense(a) => serde_json::to_value(&a.dense_summary),
         };
         match v {
             Ok(Value::Object(m)) => m,
@@ -609,6 +650,7 @@ impl Analysis {
                     .collect(),
                 _ => Vec::new(),
             },
+            Analysis::Dense(_) => Vec::new(),
         }
     }
 }

@@ -163,6 +163,7 @@ pub fn figures(analysis: &Analysis, records: &[Record]) -> Vec<JobFigure> {
         }],
         Analysis::Lattice(_) => Vec::new(),
         Analysis::Rarefied(a) => rarefied_figures(a),
+        Analysis::Dense(_) => Vec::new(),
     }
 }
 
