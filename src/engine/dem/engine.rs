@@ -172,8 +172,16 @@ impl DemEngine {
         contacts: &[KeptContact],
     ) -> Result<Self, String> {
         params
-            .validate()
+            .validate_box_and_law()
             .map_err(|p| format!("{}: {}", p.key, p.message))?;
+        if states.len() < 2 || states.iter().any(|s| {
+            !params.size_mix.components().iter().any(|c| c.0 == s.diameter)
+        }) {
+            return Err(format!(
+                "a state needs at least 2 particles, each of a diameter of the size mix {:?}",
+                params.size_mix.components()
+            ));
+        }
         let domain = Domain::new(params.length, params.width, params.span, true);
         let mut states = states.to_vec();
         for s in &mut states {
@@ -276,6 +284,11 @@ impl DemEngine {
     /// The touching pairs' histories by tags, sorted.
     pub fn contacts(&self) -> Vec<KeptContact> {
         self.list.touching(&self.bodies)
+    }
+
+    /// The box.
+    pub fn domain(&self) -> Domain {
+        self.domain
     }
 
     /// Pairs in the neighbour list.
@@ -765,18 +778,18 @@ impl DemEngine {
         let p: Payload =
             postcard::from_bytes(bytes).map_err(|e| format!("DEM payload does not decode: {e}"))?;
         p.params
-            .validate()
+            .validate_box_and_law()
             .map_err(|e| format!("DEM payload: {}: {}", e.key, e.message))?;
-        let n = p.params.particle_count();
+        let n = p.bodies.len();
         let bins = Bins::new(p.params.width).len();
-        if p.bodies.len() != n
+        if n < 2
             || p.interval.bins.len() != bins
             || p.contacts.iter().any(|c| c.0 >= c.1 || c.1 as usize >= n)
         {
             return Err(format!(
-                "DEM payload is inconsistent with its parameters ({} particles and {bins} bins \
-                 expected)",
-                n
+                "DEM payload is inconsistent ({n} particles, {} bins of {bins}, contacts by tags \
+                 below N)",
+                p.interval.bins.len()
             ));
         }
         let mut engine = Self::assemble(p.params, p.phase, &p.bodies, &p.contacts);

@@ -268,6 +268,32 @@ impl DemParams {
     /// Check every value and what depends on several of them; a [`Problem`] names the key.
     pub fn validate(&self) -> Result<(), Problem> {
         let bad = |key: &str, msg: String| Err(Problem::new(key, msg));
+        if !(self.volume_fraction > 0.0 && self.volume_fraction < 0.7) {
+            return bad(
+                "volume_fraction",
+                format!(
+                    "volume_fraction = {} is out of range: allowed 0 < phi < 0.7",
+                    self.volume_fraction
+                ),
+            );
+        }
+        self.validate_box_and_law()?;
+        if self.particle_count() < 2 {
+            return bad(
+                "volume_fraction",
+                format!(
+                    "volume_fraction = {} gives N = {} particles: at least 2 are needed",
+                    self.volume_fraction,
+                    self.particle_count()
+                ),
+            );
+        }
+        Ok(())
+    }
+
+    /// The checks that do not involve phi-bar (a run from a given state, whose N is its own).
+    pub fn validate_box_and_law(&self) -> Result<(), Problem> {
+        let bad = |key: &str, msg: String| Err(Problem::new(key, msg));
         let finite_positive = |v: f64| v.is_finite() && v > 0.0;
         let d_max = self.max_diameter();
         for (key, v) in [
@@ -289,25 +315,6 @@ impl DemParams {
                     "width_over_diameter = {} is out of range: allowed >= 4 (the two 1.5 d_p wall \
                      bins and at least one interior bin)",
                     self.width
-                ),
-            );
-        }
-        if !(self.volume_fraction > 0.0 && self.volume_fraction < 0.7) {
-            return bad(
-                "volume_fraction",
-                format!(
-                    "volume_fraction = {} is out of range: allowed 0 < phi < 0.7",
-                    self.volume_fraction
-                ),
-            );
-        }
-        if self.particle_count() < 2 {
-            return bad(
-                "volume_fraction",
-                format!(
-                    "volume_fraction = {} gives N = {} particles: at least 2 are needed",
-                    self.volume_fraction,
-                    self.particle_count()
                 ),
             );
         }
