@@ -4,9 +4,9 @@
 //! A build (from the positions x_build, the positions at the build):
 //! 1. the touching pairs of the old list are kept as (tag_a, tag_b, s), keyed by the tags
 //!    (tag_a < tag_b), grouped by tag_a;
-//! 2. a cell grid of cells at least (d_max + skin) wide; the particles are sorted by cell
-//!    (a stable counting sort, so the working order is a function of the positions alone),
-//!    which keeps neighbours close in memory;
+//! 2. a cell grid of cells at least (d_max + skin) wide; the particles are sorted by cell,
+//!    by tag within a cell (a counting sort: the working order is a function of the
+//!    positions alone, not of the order before), which keeps neighbours close in memory;
 //! 3. every particle's *row*: all particles j with |x_i - x_j| < R_i + R_j + skin (minimum
 //!    image), sorted by tag. A pair is *owned* by its lower tag, so the owned entries of a
 //!    row are its tail; owned pairs are numbered row by row, and each row entry holds the
@@ -160,6 +160,7 @@ pub struct NeighbourList {
     owned_from: Vec<u32>,
     pair_start: Vec<u32>,
     cursor: Vec<u32>,
+    by_tag: Vec<u32>,
     permute: PermuteBuffers,
 }
 
@@ -264,9 +265,17 @@ impl NeighbourList {
         self.order.resize(n, 0);
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.cell_start[..cells]);
-        for (i, &c) in self.cell_of.iter().enumerate() {
-            let at = &mut self.cursor[c as usize];
-            self.order[*at as usize] = i as u32;
+        // each cell's particles in tag order: the working order is a function of x_build
+        // alone (not of the order before), so that order-dependent sums (the tallies, the
+        // samples) are the same after a restore
+        self.by_tag.clear();
+        self.by_tag.resize(n, 0);
+        for (i, &t) in bodies.tag.iter().enumerate() {
+            self.by_tag[t as usize] = i as u32;
+        }
+        for &i in &self.by_tag {
+            let at = &mut self.cursor[self.cell_of[i as usize] as usize];
+            self.order[*at as usize] = i;
             *at += 1;
         }
         bodies.permute(&self.order, &mut self.permute);
