@@ -279,7 +279,7 @@ const PARAMS: &[ParamDef] = &[
         ParamDefault::Number(0.0),
         "0 <= mu <= 1e4",
         friction,
-        "friction while the particles settle onto the floor (not in the paper; 0 packs densest)",
+        "friction while the rained particles compact on the floor, before mu_p and mu_w freeze them (not in the paper; 0 packs densest)",
         InId::Always,
     ),
     param(
@@ -387,22 +387,19 @@ fn resolve(values: &mut Values) -> Result<(), Problem> {
         .get("damping_from")
         .and_then(ParamValue::as_text)
         .map(str::to_string);
-    let from = match (given_e, given_xi, recorded.as_deref()) {
-        (true, true, Some("restitution")) => DampingFrom::Restitution,
-        (true, true, Some("normal_damping")) => DampingFrom::NormalDamping,
-        (true, true, _) => {
+    let from = match (given_e, given_xi) {
+        (true, true) => {
             return Err(Problem::new(
                 "normal_damping",
                 "`restitution` and `normal_damping` are both given: each follows from the \
                  other, give one",
             ));
         }
-        (_, true, _) => DampingFrom::NormalDamping,
+        (_, true) => DampingFrom::NormalDamping,
         _ => DampingFrom::Restitution,
     };
     if let Some(r) = &recorded
         && r != from.name()
-        && !(given_e && given_xi)
     {
         return Err(Problem::new(
             "damping_from",

@@ -300,13 +300,15 @@ impl DemEngine {
         self.params.max_diameter() + self.params.skin
     }
 
-    /// The laws in force: the preparation settles with `settle_friction`.
+    /// The laws in force: the preparation compacts with `settle_friction`, then freezes with
+    /// the run's friction.
     pub fn laws(&self) -> (ContactLaw, Boundaries) {
         let (pair_law, wall_law, floor) = match &self.phase {
-            Phase::Preparing(p) => {
+            Phase::Preparing(p) if !p.freezing => {
                 let law = self.params.law(self.params.settle_friction);
                 (law, law, Some(p.floor))
             }
+            Phase::Preparing(p) => (self.params.pair_law(), self.params.wall_law(), Some(p.floor)),
             Phase::Flowing => (self.params.pair_law(), self.params.wall_law(), None),
         };
         (
@@ -385,7 +387,9 @@ impl DemEngine {
                     unreachable!("checked above")
                 };
                 p.last_energy = per_particle;
-                if per_particle < p.threshold {
+                if !p.freezing {
+                    p.freezing = per_particle < p.compact_threshold || p.steps >= p.compact_max_steps;
+                } else if per_particle < p.threshold {
                     self.remove_floor()?;
                 }
             }
@@ -591,8 +595,8 @@ impl DemEngine {
             }
         }
         let mut touching = 0.0;
-        for (p, slot) in self.list.slots.iter().enumerate() {
-            if !slot.touch {
+        for (p, &touch) in self.list.touch.iter().enumerate() {
+            if !touch {
                 continue;
             }
             touching += 1.0;
@@ -601,7 +605,7 @@ impl DemEngine {
             let r = self
                 .domain
                 .min_image(sub(b.x[a], b.x[c]));
-            let f = slot.force;
+            let f = self.list.out[p].force;
             let (ba, bc) = (self.bins.of(b.x[a][1]), self.bins.of(b.x[c][1]));
             for k in 0..3 {
                 for l in 0..3 {
@@ -666,13 +670,13 @@ impl DemEngine {
                 }
             }
         }
-        for (p, slot) in self.list.slots.iter().enumerate() {
-            if slot.touch {
+        for (p, &touch) in self.list.touch.iter().enumerate() {
+            if touch {
                 let [a, c] = self.list.pairs[p];
                 let (a, c) = (a as usize, c as usize);
                 let r = self.domain.min_image(sub(b.x[a], b.x[c]));
                 let overlap = b.radius[a] + b.radius[c] - dot(r, r).sqrt();
-                e[2] += contact::elastic_energy(&law, overlap.max(0.0), &slot.shear);
+                e[2] += contact::elastic_energy(&law, overlap.max(0.0), &self.list.shear[p]);
             }
         }
         e

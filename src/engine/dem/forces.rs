@@ -98,12 +98,16 @@ pub fn pair_forces(
 ) -> u64 {
     let (x, v, w) = (&bodies.x, &bodies.v, &bodies.w);
     let (radius, mass) = (&bodies.radius, &bodies.mass);
-    list.slots
+    list.out
         .par_chunks_mut(PAIR_CHUNK)
+        .zip(list.shear.par_chunks_mut(PAIR_CHUNK))
+        .zip(list.touch.par_chunks_mut(PAIR_CHUNK))
         .zip(list.pairs.par_chunks(PAIR_CHUNK))
-        .map(|(slots, pairs)| {
+        .map(|(((outs, shears), touches), pairs)| {
             let mut touching = 0u64;
-            for (slot, &[a, b]) in slots.iter_mut().zip(pairs) {
+            for (((out, shear), touch), &[a, b]) in
+                outs.iter_mut().zip(shears).zip(touches).zip(pairs)
+            {
                 let (a, b) = (a as usize, b as usize);
                 // del = x_a - x_b, minimum image
                 let del = domain.min_image([
@@ -122,16 +126,18 @@ pub fn pair_forces(
                         (v[a], v[b]),
                         (w[a], w[b]),
                         (mass[a], mass[b]),
-                        &mut slot.shear,
+                        shear,
                         update,
                     );
-                    slot.force = c.force;
-                    slot.tor = c.tor;
-                    slot.touch = true;
+                    out.force = c.force;
+                    out.tor = c.tor;
+                    *touch = true;
                     touching += 1;
-                } else if slot.touch {
+                } else if *touch {
                     // the contact ended: its history is dropped
-                    *slot = Default::default();
+                    *out = Default::default();
+                    *shear = [0.0; 3];
+                    *touch = false;
                 }
             }
             touching
@@ -184,7 +190,7 @@ pub fn particle_pass(
         ..
     } = bodies;
     let (radius, mass, kick_v, kick_w, x_build) = (&*radius, &*mass, &*kick_v, &*kick_w, &*x_build);
-    let slots = &list.slots;
+    let outs = &list.out;
     x.par_chunks_mut(PARTICLE_CHUNK)
         .zip(v.par_chunks_mut(PARTICLE_CHUNK))
         .zip(w.par_chunks_mut(PARTICLE_CHUNK))
@@ -203,11 +209,12 @@ pub fn particle_pass(
                 let mut f = [0.0f64; 3];
                 let mut t = [0.0f64; 3];
                 for &e in list.row(i) {
-                    let slot = &slots[(e & !NEGATIVE) as usize];
-                    let sign = ((e & NEGATIVE) as u64) << 32;
+                    let o = &outs[(e & !NEGATIVE) as usize];
+                    // +1 or -1 (exact: the product is the force or its negation)
+                    let sign = 1.0 - 2.0 * (e >> 31) as f64;
                     for d in 0..3 {
-                        f[d] += f64::from_bits(slot.force[d].to_bits() ^ sign);
-                        t[d] -= r * slot.tor[d];
+                        f[d] += sign * o.force[d];
+                        t[d] -= r * o.tor[d];
                     }
                 }
                 // the nearer wall
@@ -234,7 +241,9 @@ pub fn particle_pass(
                         wfs[k] = cw.force;
                     }
                 } else {
-                    wss[k] = [0.0; 3];
+                    if wss[k] != [0.0; 3] {
+                        wss[k] = [0.0; 3];
+                    }
                     if record_wall {
                         wfs[k] = [0.0; 3];
                     }
@@ -261,7 +270,7 @@ pub fn particle_pass(
                             tally.on_floor[d] -= cf.force[d];
                         }
                         tally.wall_contacts += 1;
-                    } else {
+                    } else if fss[k] != [0.0; 3] {
                         fss[k] = [0.0; 3];
                     }
                 }

@@ -11,7 +11,7 @@
 //!    image), sorted by tag. A pair is *owned* by its lower tag, so the owned entries of a
 //!    row are its tail; owned pairs are numbered row by row, and each row entry holds the
 //!    number of its pair with the sign of the force it receives (+ on the owner);
-//! 4. the pair slots (force, tor, history, touching) start empty, with the kept histories put
+//! 4. the pair state (forces, history, touching) starts empty, with the kept histories put
 //!    back by their tags.
 //!
 //! The list is valid until some particle has moved skin/2 from x_build: then no pair can
@@ -30,17 +30,13 @@ const CARRY_CHUNK: usize = 4096;
 /// The sign bit of a row entry: the particle receives minus the pair's force.
 pub const NEGATIVE: u32 = 1 << 31;
 
-/// The per-pair state the force kernel writes.
+/// What a pair's last evaluation gave its particles (zero when not touching).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PairSlot {
-    /// F on the owner (lower tag) at the last evaluation (zero when not touching)
+pub struct PairOut {
+    /// F on the owner (lower tag); the other receives -F
     pub force: [f64; 3],
-    /// n x F_t at the last evaluation
+    /// n x F_t: the owner's torque is -R_owner tor, the other's -R_other tor
     pub tor: [f64; 3],
-    /// the history s, oriented from the owner (zero when not touching)
-    pub shear: [f64; 3],
-    /// touching at the last evaluation
-    pub touch: bool,
 }
 
 /// A contact history kept across a rebuild or a checkpoint: (tag of the owner, tag of the
@@ -146,8 +142,12 @@ pub struct NeighbourList {
     pub entries: Vec<u32>,
     /// the listed pairs (owner, other), working indices
     pub pairs: Vec<[u32; 2]>,
-    /// the per-pair state, parallel to `pairs`
-    pub slots: Vec<PairSlot>,
+    /// per pair, parallel to `pairs`: the forces of the last evaluation (read by the
+    /// particles' gather), the history s oriented from the owner, and whether it touched
+    /// (kept apart: the pair kernel reads `touch` of every pair, the gather only `out`)
+    pub out: Vec<PairOut>,
+    pub shear: Vec<[f64; 3]>,
+    pub touch: Vec<bool>,
     pub stats: BuildStats,
     // reused buffers
     kept: Vec<KeptContact>,
@@ -175,13 +175,13 @@ impl NeighbourList {
 
     fn collect_touching(&self, bodies: &Bodies, out: &mut Vec<KeptContact>) {
         out.clear();
-        for (p, s) in self.slots.iter().enumerate() {
-            if s.touch {
+        for (p, &touch) in self.touch.iter().enumerate() {
+            if touch {
                 let [a, b] = self.pairs[p];
                 out.push((
                     bodies.tag[a as usize],
                     bodies.tag[b as usize],
-                    s.shear,
+                    self.shear[p],
                 ));
             }
         }
@@ -407,22 +407,30 @@ impl NeighbourList {
             });
     }
 
-    /// Empty slots, with the kept histories put back by tags.
+    /// Empty pair state, with the kept histories put back by tags.
     fn put_back(&mut self, bodies: &Bodies) {
-        self.slots.clear();
-        self.slots.resize(self.pairs.len(), PairSlot::default());
+        let np = self.pairs.len();
+        for v in [&mut self.out] {
+            v.clear();
+            v.resize(np, PairOut::default());
+        }
+        self.shear.clear();
+        self.shear.resize(np, [0.0; 3]);
+        self.touch.clear();
+        self.touch.resize(np, false);
         let (kept_start, kept_sorted, tag) = (&self.kept_start, &self.kept_sorted, &bodies.tag);
-        self.slots
+        self.shear
             .par_chunks_mut(CARRY_CHUNK)
+            .zip(self.touch.par_chunks_mut(CARRY_CHUNK))
             .zip(self.pairs.par_chunks(CARRY_CHUNK))
-            .for_each(|(slots, pairs)| {
-                for (slot, &[a, b]) in slots.iter_mut().zip(pairs) {
+            .for_each(|((shear, touch), pairs)| {
+                for ((s, t), &[a, b]) in shear.iter_mut().zip(touch).zip(pairs) {
                     let (ta, tb) = (tag[a as usize], tag[b as usize]);
                     let group = &kept_sorted
                         [kept_start[ta as usize] as usize..kept_start[ta as usize + 1] as usize];
-                    if let Some(&(_, s)) = group.iter().find(|c| c.0 == tb) {
-                        slot.shear = s;
-                        slot.touch = true;
+                    if let Some(&(_, kept)) = group.iter().find(|c| c.0 == tb) {
+                        *s = kept;
+                        *t = true;
                     }
                 }
             });
@@ -535,10 +543,10 @@ mod tests {
         let mut b = bodies(150, &domain, 3);
         let mut list = NeighbourList::default();
         list.build(&mut b, &domain, 1.2, 0.1, &[]);
-        for (p, s) in list.slots.iter_mut().enumerate() {
+        for p in 0..list.pairs.len() {
             if p % 3 == 0 {
-                s.touch = true;
-                s.shear = [p as f64, 1.0, -2.0];
+                list.touch[p] = true;
+                list.shear[p] = [p as f64, 1.0, -2.0];
             }
         }
         let before = list.touching(&b);

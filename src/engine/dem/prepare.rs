@@ -1,10 +1,19 @@
 //! The preparation (paper §2, Fig. 2): the particles, with sizes drawn from the mix, start on
 //! a loose lattice above a temporary flat floor normal to x (gravity, along +x, pushes them
-//! onto it, at x = L), with small random velocities; they rain and settle under the run's
-//! contact law (friction `settle_friction` for pairs, walls and floor) until the kinetic
-//! energy per particle is below [`SETTLE_ENERGY`] m_p g d_p (1e-6); then the floor is removed and x
-//! made periodic with period L. The settled packing fills part of L and the rest is empty
-//! space that the flow closes (the paper's Delta H); a packing taller than L is refused.
+//! onto it, at x = L), with small random velocities; they rain onto it and settle under the
+//! run's contact law in two stages:
+//! 1. *compaction*: friction `settle_friction` (0 by default) for pairs, walls and floor,
+//!    until the kinetic energy per particle is below [`COMPACT_ENERGY`] m_p g d_p (1e-4) or
+//!    for at most 10 + 5 sqrt(2 h / g) time units (h the lattice's height): a frictionless
+//!    rain packs densely, as the paper's fill (a settled packing of about 0.63) needs;
+//! 2. *freezing*: the run's friction (mu_p, mu_w), until the kinetic energy per particle is
+//!    below [`SETTLE_ENERGY`] m_p g d_p (1e-6): friction stops the slow creep of a
+//!    frictionless packing, which would otherwise take many times longer to come to rest.
+//!
+//! Then the floor is removed and x made periodic with period L. The settled packing fills part
+//! of L and the rest is empty space that the flow closes (the paper's Delta H); a packing
+//! taller than L is refused. With `settle_friction` = mu_p = mu_w both stages are the run's
+//! law throughout (the literal reading of the paper).
 //!
 //! Everything is drawn from one PCG-64 stream seeded by the job's seed, so the preparation is
 //! a deterministic function of the parameters; it runs in the engine's own steps and is
@@ -29,6 +38,8 @@ use serde::{Deserialize, Serialize};
 /// 2e-3 sqrt(g d_p). Not lower: with friction, rattlers rolling without slip along grooves of
 /// the packing (the law has no rolling resistance) keep about 1e-8 for ever.
 pub const SETTLE_ENERGY: f64 = 1e-6;
+/// The compaction stage ends when the kinetic energy per particle is below this (m_p g d_p).
+pub const COMPACT_ENERGY: f64 = 1e-4;
 /// Steps between two checks of the settling criterion.
 pub const SETTLE_CHECK_EVERY: u64 = 100;
 /// Lattice spacing over the largest diameter.
@@ -44,6 +55,12 @@ pub struct Preparation {
     /// the largest number of steps it may take: 50 + 10 sqrt(2 h / g) time units for a
     /// lattice of height h (the free fall from its top, ten times over, and margin)
     pub max_steps: u64,
+    /// the longest compaction: 10 + 5 sqrt(2 h / g) time units
+    pub compact_max_steps: u64,
+    /// kinetic energy per particle that ends the compaction
+    pub compact_threshold: f64,
+    /// in the freezing stage (the run's friction)
+    pub freezing: bool,
     /// kinetic energy per particle below which the packing has settled
     pub threshold: f64,
     /// steps done
@@ -134,13 +151,18 @@ pub fn lattice(params: &DemParams) -> Result<(Vec<BodyState>, Preparation), Stri
         ));
     }
     let height = layers as f64 * a;
-    let cap_time = 50.0 + 10.0 * (2.0 * height / g).sqrt();
+    let fall = (2.0 * height / g).sqrt();
+    let cap_time = 50.0 + 10.0 * fall;
+    let compact_time = 10.0 + 5.0 * fall;
     let reference_mass = std::f64::consts::PI / 6.0;
     Ok((
         states,
         Preparation {
             floor,
             max_steps: (cap_time / params.time_step).ceil() as u64,
+            compact_max_steps: (compact_time / params.time_step).ceil() as u64,
+            compact_threshold: COMPACT_ENERGY * reference_mass * g,
+            freezing: false,
             threshold: SETTLE_ENERGY * reference_mass * g,
             steps: 0,
             last_energy: f64::NAN,
