@@ -1,7 +1,8 @@
 //! The contact law (paper App. A, eqs. A1-A3, linear model a = 0) written as LAMMPS'
 //! `pair_style gran/hooke/history` and `fix wall/gran hooke/history` compute it (version
-//! 29 Sep 2021, Debian's `lmp`), operation for operation, so that a LAMMPS run from the same
-//! state agrees to round-off: the pure rule, shared by the fast kernel and the reference.
+//! 29 Sep 2021, Debian's `lmp`), in the same order of operations, so that a LAMMPS run from
+//! the same state agrees to round-off: the pure rule, shared by the fast kernel and the
+//! reference.
 //!
 //! For a pair i, j with del = x_i - x_j (minimum image), r = |del|, overlap
 //! delta = R_i + R_j - r > 0 (a pair with r^2 >= (R_i + R_j)^2 does not touch), n = del / r:
@@ -29,6 +30,10 @@
 //!
 //! With k_t = 0 the Coulomb rescale of LAMMPS divides by k_t; here the history is then zeroed
 //! (it carries no force).
+//!
+//! Arithmetic differs from LAMMPS' in the last bits only, where that saves a division or a
+//! square root: 1/r^2 = (1/r)^2, |s| and |F_t| compared through their squares, and
+//! m_eff xi_t / k_t formed once.
 
 use serde::{Deserialize, Serialize};
 
@@ -77,7 +82,7 @@ pub fn pair(
 ) -> ContactForce {
     let r = rsq.sqrt();
     let rinv = 1.0 / r;
-    let rsqinv = 1.0 / rsq;
+    let rsqinv = rinv * rinv;
     // relative translational velocity v_r = v_i - v_j
     let vr = [vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]];
     // wr = (R_i w_i + R_j w_j) / r
@@ -119,7 +124,7 @@ pub fn wall(
 ) -> ContactForce {
     let r = rsq.sqrt();
     let rinv = 1.0 / r;
-    let rsqinv = 1.0 / rsq;
+    let rsqinv = rinv * rinv;
     // v_r = v - v_wall, v_wall = 0
     let vr = [v[0] - 0.0, v[1] - 0.0, v[2] - 0.0];
     let wr = [
@@ -173,7 +178,8 @@ fn core(
         s[1] += vtr[1] * law.dt;
         s[2] += vtr[2] * law.dt;
     }
-    let shrmag = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+    // |s| before the rotation (LAMMPS' shrmag), only ever compared with 0
+    let shear2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
     let rsht = (s[0] * delx + s[1] * dely + s[2] * delz) * rsqinv;
     if update {
         s[0] -= rsht * delx;
@@ -188,14 +194,15 @@ fn core(
         -(law.kt * s[2] + mgt * vtr[2]),
     ];
     // Coulomb: |F_t| <= mu |F_n|, the history rescaled so that the spring gives the cap
-    let fsmag = (fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2]).sqrt();
+    let fs2 = fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2];
     let fnmax = law.mu * (ccel * r).abs();
-    if fsmag > fnmax {
-        if shrmag != 0.0 {
-            let ratio = fnmax / fsmag;
+    if fs2 > fnmax * fnmax {
+        if shear2 != 0.0 {
+            let ratio = fnmax / fs2.sqrt();
             if law.kt != 0.0 {
+                let c = mgt / law.kt;
                 for k in 0..3 {
-                    s[k] = ratio * (s[k] + mgt * vtr[k] / law.kt) - mgt * vtr[k] / law.kt;
+                    s[k] = ratio * (s[k] + c * vtr[k]) - c * vtr[k];
                 }
             } else {
                 *s = [0.0; 3];

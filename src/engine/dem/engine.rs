@@ -2,7 +2,7 @@
 //! snapshots, and the canonical checkpoint payload.
 //!
 //! A step: the initial half step (or it was fused into the previous pass), a list rebuild
-//! if some particle moved more than skin/2 since the last one, the pair forces, the particle
+//! if a pair's separation may have changed by the skin since the last one, the pair forces, the particle
 //! pass (gather, walls, floor, gravity, final half step; fused with the next initial half
 //! step when nothing needs the full-step state in between), the wall balances, and every
 //! `sample_every` steps a sample. Between calls the state is always at a full step with the
@@ -21,6 +21,7 @@ use super::sampling::{BinSums, Bins, IntervalSums, SYM};
 use crate::engine::{BoxGeometry, Particles};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
+use std::time::Instant;
 
 /// Where a run is.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -141,6 +142,22 @@ pub struct DemEngine {
     last_wall_force: [[f64; 3]; 2],
     /// scratch of the parallel passes
     tallies: Vec<Tally>,
+    /// wall-clock seconds spent per stage (not part of the state)
+    timings: StageTimes,
+}
+
+/// Wall-clock seconds spent in each stage of the steps since the engine was built or
+/// restored (for benchmarks; not part of the state, never in a checkpoint).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// pair forces
+    pub pairs: f64,
+    /// gather, walls, gravity, kicks and drifts
+    pub particles: f64,
+    /// neighbour-list rebuilds
+    pub rebuilds: f64,
+    /// samples of the bin sums
+    pub samples: f64,
 }
 
 impl DemEngine {
@@ -224,6 +241,7 @@ impl DemEngine {
             totals: Totals::default(),
             last_wall_force: [[0.0; 3]; 2],
             tallies: Vec::new(),
+            timings: StageTimes::default(),
         }
     }
 
@@ -259,6 +277,11 @@ impl DemEngine {
 
     pub fn counters(&self) -> DemCounters {
         self.counters
+    }
+
+    /// Wall-clock seconds per stage since the engine was built or restored.
+    pub fn stage_times(&self) -> StageTimes {
+        self.timings
     }
 
     /// Cumulative balances since the flow started.
@@ -458,7 +481,7 @@ impl DemEngine {
         }
         let (law, bounds) = self.laws();
         let dt = self.params.time_step;
-        let half_skin2 = 0.25 * self.params.skin * self.params.skin;
+        let skin2 = self.params.skin * self.params.skin;
         let np = self.bodies.len() as u64;
         let reach = self.reach();
         let mut drifted = forces::kick_drift(
@@ -470,13 +493,19 @@ impl DemEngine {
         );
         for left in (0..n).rev() {
             self.add_gravity_work(drifted.gravity_power * dt);
-            if drifted.max_displacement2 > half_skin2 {
+            // rebuild before a pair's separation can have changed by the skin since the last
+            // build (a common motion of all particles does not count)
+            if drifted.separation_change2() > skin2 {
+                let clock = Instant::now();
                 self.list
                     .rebuild(&mut self.bodies, &self.domain, reach, self.params.skin);
                 self.counters.rebuilds += 1;
+                self.timings.rebuilds += clock.elapsed().as_secs_f64();
             }
+            let clock = Instant::now();
             let contacts =
                 forces::pair_forces(&law, &self.domain, &self.bodies, &mut self.list, true);
+            self.timings.pairs += clock.elapsed().as_secs_f64();
             let (flowing, sample) = match &self.phase {
                 Phase::Flowing => (
                     true,
@@ -490,6 +519,7 @@ impl DemEngine {
             } else {
                 Pass::Final
             };
+            let clock = Instant::now();
             let tally = forces::particle_pass(
                 &law,
                 &bounds,
@@ -500,6 +530,7 @@ impl DemEngine {
                 sample,
                 &mut self.tallies,
             );
+            self.timings.particles += clock.elapsed().as_secs_f64();
             self.counters.contacts += contacts;
             self.counters.wall_contacts += tally.wall_contacts;
             self.counters.particle_steps += np;
@@ -523,7 +554,9 @@ impl DemEngine {
             }
             self.last_wall_force = tally.on_walls;
             if sample {
+                let clock = Instant::now();
                 self.sample(&bounds);
+                self.timings.samples += clock.elapsed().as_secs_f64();
             }
             if left == 0 {
                 break;

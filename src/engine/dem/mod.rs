@@ -33,9 +33,9 @@
 //! [`engine`] (the step loop, snapshots, checkpoints), [`reference`] (all pairs, one thread:
 //! what the tests hold the engine to, bit for bit), `declaration` (the registry's view).
 //!
-//! **Determinism.** Each pair is evaluated once (oriented from its lower tag) into its slot;
-//! each particle sums its slots in the tag order of its partners, then wall, floor and
-//! gravity. No sum depends on the number of threads, the working order, the cell size, the
+//! **Determinism.** Each pair is evaluated once, by its owner (its lower tag), into its slot;
+//! a particle's force is minus the sum of its lower-tag partners' pair forces (tag order)
+//! plus the sum of its owned pairs' forces (tag order), then wall, floor and gravity. No sum depends on the number of threads, the working order, the cell size, the
 //! skin or the rebuild times, so runs agree bitwise on any number of threads, with any skin,
 //! and after any checkpoint and restore.
 

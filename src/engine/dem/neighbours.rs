@@ -8,14 +8,21 @@
 //!    by tag within a cell (a counting sort: the working order is a function of the
 //!    positions alone, not of the order before), which keeps neighbours close in memory;
 //! 3. every particle's *row*: all particles j with |x_i - x_j| < R_i + R_j + skin (minimum
-//!    image), sorted by tag. A pair is *owned* by its lower tag, so the owned entries of a
-//!    row are its tail; owned pairs are numbered row by row, and each row entry holds the
-//!    number of its pair with the sign of the force it receives (+ on the owner);
+//!    image), sorted by tag. A pair is *owned* by its lower tag, so a row is its *lower*
+//!    part (partners of lower tag, whose pairs it does not own) followed by its owned part;
+//!    owned pairs are numbered row by row (particle i owns pair_start[i] .. pair_start[i+1],
+//!    in tag order), and each row entry holds the number of its pair;
 //! 4. the pair state (forces, history, touching) starts empty, with the kept histories put
 //!    back by their tags.
 //!
-//! The list is valid until some particle has moved skin/2 from x_build: then no pair can
-//! have come into contact unlisted. Forces are summed in every row in tag order, so a
+//! A particle's force is then (sum over its lower part, in tag order, of minus the pair
+//! forces) + (sum over its owned pairs, in tag order, of the pair forces): the pair kernel
+//! forms the second sum while it evaluates the owned pairs, the particle pass the first.
+//!
+//! The list is valid while no pair's separation can have changed by the skin since x_build:
+//! the engine rebuilds when the box holding every particle's displacement x - x_build has a
+//! diagonal longer than the skin (two displacements in it differ by at most that), which
+//! lets a plug flow translate without rebuilds. Forces are summed in every row in tag order, so a
 //! particle's force does not depend on the working order, the cell size, the skin or when
 //! the list was built: only on the physical state (see [`super::reference`]).
 
@@ -27,8 +34,6 @@ use rayon::prelude::*;
 const BUILD_CHUNK: usize = 256;
 /// Pairs per parallel task when histories are put back.
 const CARRY_CHUNK: usize = 4096;
-/// The sign bit of a row entry: the particle receives minus the pair's force.
-pub const NEGATIVE: u32 = 1 << 31;
 
 /// What a pair's last evaluation gave its particles (zero when not touching).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -138,10 +143,18 @@ pub struct NeighbourList {
     pub row_len: Vec<u32>,
     /// row i: its partners (working indices) sorted by tag, at [i * stride, i * stride + len)
     pub partners: Vec<u32>,
-    /// row i: the pair number of each partner, with [`NEGATIVE`] when i is not the owner
+    /// row i: the pair number of each partner
     pub entries: Vec<u32>,
+    /// length of each row's lower part (partners of lower tag)
+    pub lower: Vec<u32>,
+    /// the pairs owned by particle i are pair_start[i] .. pair_start[i + 1]
+    pub pair_start: Vec<u32>,
     /// the listed pairs (owner, other), working indices
     pub pairs: Vec<[u32; 2]>,
+    /// per particle: the sums over its owned pairs of F and of -R tor (the pair kernel's
+    /// part of its force and torque)
+    pub owned_force: Vec<[f64; 3]>,
+    pub owned_torque: Vec<[f64; 3]>,
     /// per pair, parallel to `pairs`: the forces of the last evaluation (read by the
     /// particles' gather), the history s oriented from the owner, and whether it touched
     /// (kept apart: the pair kernel reads `touch` of every pair, the gather only `out`)
@@ -157,8 +170,6 @@ pub struct NeighbourList {
     cell_start: Vec<u32>,
     order: Vec<u32>,
     chunk_rows: Vec<Vec<u32>>,
-    owned_from: Vec<u32>,
-    pair_start: Vec<u32>,
     cursor: Vec<u32>,
     by_tag: Vec<u32>,
     permute: PermuteBuffers,
@@ -358,8 +369,8 @@ impl NeighbourList {
         let stride = self.stride.max(1);
         let tag = &bodies.tag;
         // owned entries are the tail of each (tag-sorted) row
-        self.owned_from.clear();
-        self.owned_from.extend((0..n).map(|i| {
+        self.lower.clear();
+        self.lower.extend((0..n).map(|i| {
             let row = &self.partners[i * stride..i * stride + self.row_len[i] as usize];
             row.partition_point(|&j| tag[j as usize] < tag[i]) as u32
         }));
@@ -368,22 +379,22 @@ impl NeighbourList {
         let mut total = 0u32;
         for i in 0..n {
             self.pair_start.push(total);
-            total += self.row_len[i] - self.owned_from[i];
+            total += self.row_len[i] - self.lower[i];
         }
         self.pair_start.push(total);
         self.pairs.clear();
         for i in 0..n {
             let row = &self.partners[i * stride..i * stride + self.row_len[i] as usize];
-            for &j in &row[self.owned_from[i] as usize..] {
+            for &j in &row[self.lower[i] as usize..] {
                 self.pairs.push([i as u32, j]);
             }
         }
         self.entries.clear();
         self.entries.resize(n * stride, 0);
-        let (partners, row_len, owned_from, pair_start) = (
+        let (partners, row_len, lower, pair_start) = (
             &self.partners,
             &self.row_len,
-            &self.owned_from,
+            &self.lower,
             &self.pair_start,
         );
         self.entries
@@ -391,7 +402,7 @@ impl NeighbourList {
             .enumerate()
             .for_each(|(i, out)| {
                 let row = &partners[i * stride..i * stride + row_len[i] as usize];
-                let own = owned_from[i] as usize;
+                let own = lower[i] as usize;
                 for (k, &j) in row.iter().enumerate() {
                     out[k] = if k >= own {
                         pair_start[i] + (k - own) as u32
@@ -401,7 +412,7 @@ impl NeighbourList {
                         let rj = &partners[j * stride..j * stride + row_len[j] as usize];
                         let q = rj.partition_point(|&m| tag[m as usize] < tag[i]);
                         debug_assert_eq!(rj[q] as usize, i, "rows are symmetric");
-                        (pair_start[j] + (q - owned_from[j] as usize) as u32) | NEGATIVE
+                        pair_start[j] + (q - lower[j] as usize) as u32
                     };
                 }
             });
@@ -418,6 +429,11 @@ impl NeighbourList {
         self.shear.resize(np, [0.0; 3]);
         self.touch.clear();
         self.touch.resize(np, false);
+        let n = bodies.len();
+        self.owned_force.clear();
+        self.owned_force.resize(n, [0.0; 3]);
+        self.owned_torque.clear();
+        self.owned_torque.resize(n, [0.0; 3]);
         let (kept_start, kept_sorted, tag) = (&self.kept_start, &self.kept_sorted, &bodies.tag);
         self.shear
             .par_chunks_mut(CARRY_CHUNK)
@@ -436,10 +452,16 @@ impl NeighbourList {
             });
     }
 
-    /// Row i: (pair number, negative) of each partner, in tag order.
+    /// Row i: the pair number of each partner, in tag order.
     #[inline]
     pub fn row(&self, i: usize) -> &[u32] {
         &self.entries[i * self.stride..i * self.stride + self.row_len[i] as usize]
+    }
+
+    /// The lower part of row i: the pairs of its partners of lower tag, in tag order.
+    #[inline]
+    pub fn lower_row(&self, i: usize) -> &[u32] {
+        &self.entries[i * self.stride..i * self.stride + self.lower[i] as usize]
     }
 }
 
@@ -524,13 +546,19 @@ mod tests {
             for i in 0..n {
                 let row = list.row(i);
                 let mut last = None;
-                for &e in row {
-                    let [a, c] = list.pairs[(e & !NEGATIVE) as usize];
-                    let (me, other) = if e & NEGATIVE == 0 { (a, c) } else { (c, a) };
+                for (k, &e) in row.iter().enumerate() {
+                    let [a, c] = list.pairs[e as usize];
+                    let lower = k < list.lower[i] as usize;
+                    let (me, other) = if lower { (c, a) } else { (a, c) };
                     assert_eq!(me as usize, i);
                     let t = b.tag[other as usize];
+                    assert_eq!(lower, t < b.tag[i]);
                     assert!(last.is_none_or(|l| l < t), "rows sorted by tag");
                     last = Some(t);
+                    if !lower {
+                        let p = e as usize;
+                        assert!((list.pair_start[i] as usize..list.pair_start[i + 1] as usize).contains(&p));
+                    }
                 }
             }
         }

@@ -156,7 +156,7 @@ pub struct DemParams {
     /// Delta t
     pub time_step: f64,
     /// neighbour-list skin (in d_p): pairs closer than (d_i + d_j)/2 + skin are listed, the
-    /// list is rebuilt when a particle has moved skin/2
+    /// list is rebuilt before any pair's separation can have changed by the skin
     pub skin: f64,
     /// steps between two samples of the bin sums
     pub sample_every: u64,

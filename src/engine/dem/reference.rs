@@ -6,9 +6,11 @@
 //! parallel blocks must then be exact stand-ins for "every pair, summed in tag order".
 //!
 //! Both use the contact rule of [`super::contact`] and sum a particle's forces in the same
-//! order: its pairs by ascending partner tag (each pair evaluated once, oriented from the
-//! lower tag), then the nearer wall, the floor, gravity; and both kick and drift with the
-//! same operations. That fixed order is what makes bitwise agreement a fair requirement.
+//! order (each pair evaluated once, oriented from the lower tag): minus the forces of its
+//! pairs with lower-tag partners by ascending tag, plus the sum of the forces of its pairs
+//! with higher-tag partners by ascending tag, then the nearer wall, the floor, gravity; and
+//! both kick and drift with the same operations. That fixed order is what makes bitwise
+//! agreement a fair requirement.
 
 use super::bodies::BodyState;
 use super::contact::{self, ContactForce, ContactLaw};
@@ -118,20 +120,34 @@ impl Reference {
                 }
             }
         }
-        // each particle: its pairs by partner tag, the nearer wall, the floor, gravity
+        // each particle: (its pairs with lower tags, in tag order) + (its pairs with higher
+        // tags, in tag order), then the nearer wall, the floor, gravity
         for i in 0..n {
             let r = 0.5 * self.bodies[i].diameter;
             let m = sphere_mass(self.bodies[i].diameter);
             let mut f = [0.0f64; 3];
             let mut t = [0.0f64; 3];
-            for j in 0..n {
-                let (key, sign) = if j < i { ((j, i), -1.0) } else { ((i, j), 1.0) };
-                if let Some(c) = pair.get(&key) {
+            for j in 0..i {
+                if let Some(c) = pair.get(&(j, i)) {
                     for d in 0..3 {
-                        f[d] += sign * c.force[d];
+                        f[d] -= c.force[d];
                         t[d] -= r * c.tor[d];
                     }
                 }
+            }
+            let mut fo = [0.0f64; 3];
+            let mut to = [0.0f64; 3];
+            for j in i + 1..n {
+                if let Some(c) = pair.get(&(i, j)) {
+                    for d in 0..3 {
+                        fo[d] += c.force[d];
+                        to[d] -= r * c.tor[d];
+                    }
+                }
+            }
+            for d in 0..3 {
+                f[d] += fo[d];
+                t[d] += to[d];
             }
             let b = &mut self.bodies[i];
             let (_, del, touching) = nearer_wall(b.position[1], r, self.bounds.width);
