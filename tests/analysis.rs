@@ -50,6 +50,7 @@ fn snapshot(g: BoxGeometry, positions: Vec<[f64; 3]>, cpp: f64) -> Snapshot {
             positions,
             velocities: vec![[0.0; 3]; n],
             angular_velocities: vec![[0.0; 3]; n],
+            diameters: Vec::new(),
             translational_energy: n as f64,
             rotational_energy: 0.1 * n as f64,
             // the balances of a steady flow (time = cpp here): the walls take N m g per unit

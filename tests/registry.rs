@@ -358,7 +358,7 @@ fn a_key_of_another_engine_says_so() {
         "(engine: \"lga\", fixed: (restitution: 0.7), run: (steps: 100, snapshot_interval: 10))",
         &[
             "fixed.restitution",
-            "parameter of the \"edmd\" and \"dsmc\" engines, not of the lga engine",
+            "parameter of the \"edmd\", \"dsmc\" and \"dem\" engines, not of the lga engine",
         ],
     );
     let dir = scratch("other-engine-set");
@@ -374,7 +374,7 @@ fn a_key_of_another_engine_says_so() {
     ]);
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("of the \"edmd\" engine"), "{stderr}");
+    assert!(stderr.contains("of the \"edmd\" and \"dem\" engines"), "{stderr}");
     // and a clock the lattice gas does not have
     rejected(
         "lga-clock",

@@ -56,6 +56,7 @@ fn snapshot(walls: bool) -> Snapshot {
             positions,
             velocities,
             angular_velocities,
+            diameters: Vec::new(),
             translational_energy: 0.0,
             rotational_energy: 0.0,
             wall_momentum: [[0.0; 3]; 2],

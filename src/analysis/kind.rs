@@ -4,6 +4,7 @@
 //! engine's declaration names its kind; a new kind of analysis is added here.
 
 use super::columns::{Cell, ColumnDef, ColumnKind, TableDef};
+use super::dense::{DenseAnalysis, DenseRecord, DenseSettings};
 use super::lattice::{LatticeAnalysis, LatticeRecord, LatticeSettings};
 use super::rarefied::{RarefiedAnalysis, RarefiedRecord, RarefiedSettings};
 use super::statistics::{StatisticsPlan, StatisticsRecord};
@@ -25,6 +26,9 @@ pub enum AnalysisKind {
     /// profiles, flow rate, slips, normal-stress differences, balances, mixture segregation,
     /// each with a block-average error over the detected steady window
     Rarefied,
+    /// a dense frictional flow by DEM (Debnath, Rao & Kumaran 2022): for now the mean
+    /// centre-of-mass velocity and the wall-force balance with block errors, and a label
+    Dense,
 }
 
 /// A kind's settings, ready to record and analyse.
@@ -35,6 +39,7 @@ pub enum Analyser {
     Rarefied(RarefiedSettings),
     /// the structure analysis and the thesis' statistics (runs with `run.statistics`)
     StructureWithStatistics(AnalysisSettings, Box<StatisticsPlan>),
+    Dense(DenseSettings),
 }
 
 /// What one snapshot contributes, by kind.
@@ -45,6 +50,7 @@ pub enum Record {
     Rarefied(Box<RarefiedRecord>),
     /// a structure record with the statistics of the same snapshot
     Statistics(Box<StatisticsSnapshot>),
+    Dense(Box<DenseRecord>),
 }
 
 /// The structure record and the statistics record of one snapshot.
@@ -67,6 +73,7 @@ pub enum Analysis {
     Structure(JobAnalysis),
     Lattice(LatticeAnalysis),
     Rarefied(RarefiedAnalysis),
+    Dense(DenseAnalysis),
 }
 
 impl AnalysisKind {
@@ -78,6 +85,7 @@ impl AnalysisKind {
             AnalysisKind::Structure => 2,
             AnalysisKind::Lattice => 1,
             AnalysisKind::Rarefied => 1,
+            AnalysisKind::Dense => 1,
         }
     }
 
@@ -121,6 +129,12 @@ impl AnalysisKind {
                 s.validate()?;
                 Ok(Analyser::Rarefied(s))
             }
+            AnalysisKind::Dense => {
+                let s: DenseSettings = serde_json::from_value(given)
+                    .map_err(|e| format!("{e}; allowed keys: blocks"))?;
+                s.validate()?;
+                Ok(Analyser::Dense(s))
+            }
         }
     }
 
@@ -135,6 +149,9 @@ impl AnalysisKind {
             }
             AnalysisKind::Rarefied => {
                 serde_json::to_value(RarefiedSettings::default()).expect("settings serialise")
+            }
+            AnalysisKind::Dense => {
+                serde_json::to_value(DenseSettings::default()).expect("settings serialise")
             }
         }
     }
@@ -154,6 +171,8 @@ impl AnalysisKind {
             AnalysisKind::Rarefied => Value::Object(rarefied_summary(
                 &super::rarefied::RarefiedSummary::default(),
             )),
+            AnalysisKind::Dense => serde_json::to_value(super::dense::DenseSummary::default())
+                .expect("summary serialises"),
         };
         let Value::Object(map) = empty else {
             return Vec::new();
@@ -172,6 +191,7 @@ impl AnalysisKind {
             AnalysisKind::Structure => STRUCTURE_TABLES,
             AnalysisKind::Lattice => LATTICE_TABLES,
             AnalysisKind::Rarefied => RAREFIED_TABLES,
+            AnalysisKind::Dense => &[],
         }
     }
 }
@@ -439,6 +459,7 @@ impl Analyser {
             }
             Analyser::Lattice(s) => serde_json::to_value(s).expect("settings serialise"),
             Analyser::Rarefied(s) => serde_json::to_value(s).expect("settings serialise"),
+            Analyser::Dense(s) => serde_json::to_value(s).expect("settings serialise"),
         }
     }
 
@@ -507,6 +528,12 @@ impl Analyser {
                 )?;
                 Ok(Record::Rarefied(Box::new(sample.clone())))
             }
+            Analyser::Dense(_) => {
+                let sample = snapshot.dem().ok_or(
+                    "the dense analysis needs DEM bin sums, and this engine's snapshots carry none",
+                )?;
+                Ok(Record::Dense(Box::new(sample.record.clone())))
+            }
         }
     }
 
@@ -566,6 +593,16 @@ impl Analyser {
                     .collect();
                 super::rarefied::analyse(&records, s).map(Analysis::Rarefied)
             }
+            Analyser::Dense(s) => {
+                let records: Vec<DenseRecord> = records
+                    .iter()
+                    .filter_map(|r| match r {
+                        Record::Dense(r) => Some((**r).clone()),
+                        _ => None,
+                    })
+                    .collect();
+                Ok(Analysis::Dense(super::dense::analyse(&records, s)))
+            }
         }
     }
 }
@@ -595,7 +632,7 @@ impl Analyser {
                 super::steady_over(&records, s, clock, window, &mut check.structure)
             }
             // validation refuses `until_steady` for kinds without a steady rule
-            Analyser::Lattice(_) | Analyser::Rarefied(_) => None,
+            Analyser::Lattice(_) | Analyser::Rarefied(_) | Analyser::Dense(_) => None,
         }
     }
 }
@@ -617,6 +654,7 @@ impl Record {
             Record::Statistics(r) => r.structure.time,
             Record::Lattice(r) => r.step as f64,
             Record::Rarefied(r) => r.sums.end_step as f64,
+            Record::Dense(r) => r.sums.end_step as f64 * r.constants.time_step,
         }
     }
 }
@@ -635,6 +673,7 @@ impl Analysis {
                 },
                 0,
             ),
+            Analysis::Dense(a) => (&a.dense_summary.label, 0),
         }
     }
 
@@ -644,6 +683,7 @@ impl Analysis {
             Analysis::Structure(_) => AnalysisKind::Structure,
             Analysis::Lattice(_) => AnalysisKind::Lattice,
             Analysis::Rarefied(_) => AnalysisKind::Rarefied,
+            Analysis::Dense(_) => AnalysisKind::Dense,
         }
     }
 
@@ -653,6 +693,7 @@ impl Analysis {
             Analysis::Structure(a) => serde_json::to_value(&a.summary),
             Analysis::Lattice(a) => serde_json::to_value(&a.summary),
             Analysis::Rarefied(a) => return rarefied_summary(&a.summary),
+            Analysis::Dense(a) => serde_json::to_value(&a.dense_summary),
         };
         let mut m = match v {
             Ok(Value::Object(m)) => m,
@@ -805,6 +846,7 @@ impl Analysis {
                     .collect(),
                 _ => Vec::new(),
             },
+            Analysis::Dense(_) => Vec::new(),
         }
     }
 }

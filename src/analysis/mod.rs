@@ -14,6 +14,7 @@
 pub mod balance;
 pub mod classify;
 pub mod columns;
+pub mod dense;
 pub mod fields;
 mod kind;
 pub mod labels;

@@ -5,7 +5,7 @@
 use super::out::outln;
 use super::params::ParamFlags;
 use crate::analysis::{self, Analyser, Analysis, JobAnalysis};
-use crate::engine::{Clock, Content, EngineDef, ParamValue, Snapshot, StopAt, Values, registry};
+use crate::engine::{Clock, EngineDef, ParamValue, Snapshot, StopAt, Values, registry};
 use crate::sweep::BadInput;
 use crate::sweep::ranges::RangeCall;
 use crate::sweep::spec::{ParamValues, did_you_mean};
@@ -265,7 +265,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let first = engine.snapshot();
     let mut header = format!("{:>12} {:>12}", clock.unit(), "time");
-    if matches!(first.content, Content::Particles(_)) {
+    if first.particles().is_some() {
         header.push_str(&format!(" {:>12} {:>12}", "E_trans/N", "E_rot/N"));
     }
     for ratio in engine_def.ratios {
@@ -289,7 +289,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
             records.push(plan.analyser.record(&s).map_err(anyhow::Error::msg)?);
         }
         let mut line = format!("{:>12.1} {:>12.4}", s.progress.on(clock), s.progress.time);
-        if let Content::Particles(p) = &s.content {
+        if let Some(p) = s.particles() {
             let n = p.len().max(1) as f64;
             line.push_str(&format!(
                 " {:>12.5} {:>12.5}",

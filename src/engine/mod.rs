@@ -6,6 +6,7 @@
 //! switched on); time is measured in sqrt(d/g). The lattice gas counts sites and time steps.
 
 pub mod declare;
+pub mod dem;
 pub mod dsmc;
 pub mod edmd;
 pub mod envelope;
@@ -173,6 +174,9 @@ pub struct Particles {
     pub velocities: Vec<[f64; 3]>,
     /// angular velocities w_i (empty for smooth spheres)
     pub angular_velocities: Vec<[f64; 3]>,
+    /// diameters d_i (empty: every sphere has the reference diameter d = 1)
+    #[serde(default)]
+    pub diameters: Vec<f64>,
     /// translational kinetic energy sum m c^2 / 2
     pub translational_energy: f64,
     /// rotational kinetic energy sum I w^2 / 2
@@ -232,6 +236,9 @@ pub enum Content {
     /// a sampled rarefied gas (DSMC): the cell moments and balances summed since the previous
     /// snapshot, with the run's constants
     Sampled(Box<dsmc::channel::Sample>),
+    /// a dense flow by DEM: the bin sums and wall balances since the previous snapshot with
+    /// the run's constants, and the particles
+    Dem(Box<dem::Sample>),
 }
 
 /// The state of an engine at one time, with its clocks and counters. Analyses consume it;
@@ -256,6 +263,7 @@ impl Snapshot {
     pub fn particles(&self) -> Option<&Particles> {
         match &self.content {
             Content::Particles(p) => Some(p),
+            Content::Dem(s) => Some(&s.particles),
             _ => None,
         }
     }
@@ -264,6 +272,7 @@ impl Snapshot {
     pub fn particles_mut(&mut self) -> Option<&mut Particles> {
         match &mut self.content {
             Content::Particles(p) => Some(p),
+            Content::Dem(s) => Some(&mut s.particles),
             _ => None,
         }
     }
@@ -280,6 +289,14 @@ impl Snapshot {
     pub fn sampled(&self) -> Option<&dsmc::channel::Sample> {
         match &self.content {
             Content::Sampled(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The bin sums and particles, for DEM.
+    pub fn dem(&self) -> Option<&dem::Sample> {
+        match &self.content {
+            Content::Dem(s) => Some(s),
             _ => None,
         }
     }

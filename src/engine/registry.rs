@@ -9,6 +9,7 @@ pub static ENGINES: &[&EngineDef] = &[
     &super::edmd::DECLARATION,
     &super::lga::DECLARATION,
     &super::dsmc::DECLARATION,
+    &super::dem::DECLARATION,
 ];
 
 /// The engine of this name.

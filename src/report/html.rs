@@ -70,6 +70,12 @@ fn key_columns(kind: AnalysisKind) -> &'static [(&'static str, &'static str)] {
             ("slip_velocity", "u_slip"),
             ("momentum_balance", "momentum bal."),
         ],
+        AnalysisKind::Dense => &[
+            ("com_velocity", "u_cm"),
+            ("com_velocity_error", "+-"),
+            ("wall_force_balance", "wall force / weight"),
+            ("wall_force_balance_error", "+-"),
+        ],
     }
 }
 

@@ -265,6 +265,7 @@ pub fn figures(job: &PlannedJob, analysis: &Analysis, records: &[Record]) -> Vec
         }],
         Analysis::Lattice(_) => Vec::new(),
         Analysis::Rarefied(a) => rarefied_figures(a),
+        Analysis::Dense(_) => Vec::new(),
     };
     let heading = heading(job);
     for f in &mut out {

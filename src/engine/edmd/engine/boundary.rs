@@ -113,6 +113,7 @@ impl Engine for EdmdEngine {
                 positions: kinematics.iter().map(|k| k.position).collect(),
                 velocities: kinematics.iter().map(|k| k.velocity).collect(),
                 angular_velocities: self.by_id(&self.angular),
+                diameters: Vec::new(),
                 translational_energy,
                 rotational_energy,
                 wall_momentum: self.wall_momentum,

@@ -1,0 +1,537 @@
+//! The parallel kernels of a step: pair forces (each listed pair once, by its owner, into its
+//! slot, the owner summing its owned pairs on the way) and the particle pass (each particle
+//! gathers the forces of the pairs owned by its lower-tag partners, in tag order, adds its
+//! owned sum, its wall and floor contacts and gravity, and kicks and drifts), both in
+//! parallel over blocks of particles.
+//!
+//! Integration is LAMMPS' velocity Verlet (`fix nve/sphere`), per particle:
+//!
+//! ```text
+//! v += (dt/2) F / m;   x += dt v;   w += (dt/2) tau / I      (initial half step)
+//! F, tau = forces(x(t + dt), v(t + dt/2), w(t + dt/2))        (damping and history see the
+//!                                                              half-step velocities)
+//! v += (dt/2) F / m;   w += (dt/2) tau / I                    (final half step)
+//! ```
+//!
+//! Between two steps that need no full-step state (no sample, no stop) the final half step of
+//! one and the initial half step of the next are done in the same pass, as the same
+//! operations in the same order. Every sum (a particle's forces, a block's tallies) runs in
+//! an order fixed by tags and blocks, never by threads: the same bits on any number of
+//! threads.
+
+use super::bodies::Bodies;
+use super::contact::{self, ContactLaw};
+use super::domain::Domain;
+use super::neighbours::{NeighbourList, PairOut};
+use rayon::prelude::*;
+
+/// Particles per parallel task.
+pub const PARTICLE_CHUNK: usize = 512;
+
+/// The flat boundaries: walls at y = 0 and y = W, and the preparation's floor normal to x.
+#[derive(Clone, Copy, Debug)]
+pub struct Boundaries {
+    /// W
+    pub width: f64,
+    /// the law of both walls
+    pub wall_law: ContactLaw,
+    /// the floor's position along x (gravity pushes particles onto it), during preparation
+    pub floor: Option<f64>,
+    /// the floor's law
+    pub floor_law: ContactLaw,
+    /// g, the gravitational acceleration
+    pub gravity: [f64; 3],
+}
+
+/// What the particle pass does after the forces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    /// forces only (LAMMPS' setup: histories are not advanced, velocities unchanged)
+    Setup,
+    /// the final half kick
+    Final,
+    /// the final half kick, then the next step's initial half kick and drift
+    FinalAndNext,
+}
+
+/// A block's sums of one pass, added in block order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tally {
+    /// force of the particles on each wall (minus the walls' force on the particles)
+    pub on_walls: [[f64; 3]; 2],
+    /// force of the particles on the floor
+    pub on_floor: [f64; 3],
+    /// particles touching a wall (and the floor)
+    pub wall_contacts: u64,
+    /// smallest and largest component of the displacements x - x_build after a drift
+    pub displacement_min: [f64; 3],
+    pub displacement_max: [f64; 3],
+    /// sum m g . v over the drifted particles (times dt: the work of gravity in the drift)
+    pub gravity_power: f64,
+}
+
+impl Default for Tally {
+    fn default() -> Self {
+        Tally {
+            on_walls: [[0.0; 3]; 2],
+            on_floor: [0.0; 3],
+            wall_contacts: 0,
+            displacement_min: [f64::INFINITY; 3],
+            displacement_max: [f64::NEG_INFINITY; 3],
+            gravity_power: 0.0,
+        }
+    }
+}
+
+impl Tally {
+    /// (2 x) the half-diagonal of the box holding every displacement since the list build:
+    /// no pair's separation has changed by more than this (x_i - x_j moves by
+    /// (d_i - c) - (d_j - c) for the box's centre c), whatever common motion the particles
+    /// share. Squared; 0 before any drift.
+    pub fn separation_change2(&self) -> f64 {
+        (0..3)
+            .map(|k| (self.displacement_max[k] - self.displacement_min[k]).max(0.0))
+            .map(|w| w * w)
+            .sum()
+    }
+
+    /// Add a later block's tally.
+    pub fn add(&mut self, o: &Tally) {
+        for w in 0..2 {
+            for k in 0..3 {
+                self.on_walls[w][k] += o.on_walls[w][k];
+            }
+        }
+        for k in 0..3 {
+            self.on_floor[k] += o.on_floor[k];
+        }
+        self.wall_contacts += o.wall_contacts;
+        for k in 0..3 {
+            self.displacement_min[k] = self.displacement_min[k].min(o.displacement_min[k]);
+            self.displacement_max[k] = self.displacement_max[k].max(o.displacement_max[k]);
+        }
+        self.gravity_power += o.gravity_power;
+    }
+}
+
+/// What the pair kernel reads of the particles.
+struct PairInput<'a> {
+    law: &'a ContactLaw,
+    domain: &'a Domain,
+    x: &'a [[f64; 3]],
+    v: &'a [[f64; 3]],
+    w: &'a [[f64; 3]],
+    radius: &'a [f64],
+    mass: &'a [f64],
+    pairs: &'a [[u32; 2]],
+    pair_start: &'a [u32],
+    update: bool,
+}
+
+/// What the pair kernel writes for a range of owners and their pairs.
+struct PairOutput<'a> {
+    out: &'a mut [PairOut],
+    shear: &'a mut [[f64; 3]],
+    touch: &'a mut [bool],
+    owned_force: &'a mut [[f64; 3]],
+    owned_torque: &'a mut [[f64; 3]],
+}
+
+impl<'a> PairOutput<'a> {
+    /// Split after `particles` owners, whose pairs are the first `pairs`.
+    fn split(self, particles: usize, pairs: usize) -> (PairOutput<'a>, PairOutput<'a>) {
+        let (o1, o2) = self.out.split_at_mut(pairs);
+        let (s1, s2) = self.shear.split_at_mut(pairs);
+        let (t1, t2) = self.touch.split_at_mut(pairs);
+        let (f1, f2) = self.owned_force.split_at_mut(particles);
+        let (q1, q2) = self.owned_torque.split_at_mut(particles);
+        (
+            PairOutput {
+                out: o1,
+                shear: s1,
+                touch: t1,
+                owned_force: f1,
+                owned_torque: q1,
+            },
+            PairOutput {
+                out: o2,
+                shear: s2,
+                touch: t2,
+                owned_force: f2,
+                owned_torque: q2,
+            },
+        )
+    }
+}
+
+/// Forces of all listed pairs at the current positions and velocities: each pair's force
+/// and tor into its slot, and each owner's sums over its owned pairs (tag order) of F and of
+/// -R_owner tor. In parallel over ranges of owners (split in halves down to
+/// [`PARTICLE_CHUNK`] owners), so that an owner's pairs are summed in one task, in order.
+/// Returns the number of touching pairs. `update`: advance the histories.
+pub fn pair_forces(
+    law: &ContactLaw,
+    domain: &Domain,
+    bodies: &Bodies,
+    list: &mut NeighbourList,
+    update: bool,
+) -> u64 {
+    let input = PairInput {
+        law,
+        domain,
+        x: &bodies.x,
+        v: &bodies.v,
+        w: &bodies.w,
+        radius: &bodies.radius,
+        mass: &bodies.mass,
+        pairs: &list.pairs,
+        pair_start: &list.pair_start,
+        update,
+    };
+    let output = PairOutput {
+        out: &mut list.out,
+        shear: &mut list.shear,
+        touch: &mut list.touch,
+        owned_force: &mut list.owned_force,
+        owned_torque: &mut list.owned_torque,
+    };
+    owners(&input, 0, bodies.len(), output)
+}
+
+/// The pairs of owners lo .. hi (their slots start at pair_start[lo]).
+fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
+    if hi - lo > PARTICLE_CHUNK {
+        let mid = lo + (hi - lo) / 2;
+        let pairs = (input.pair_start[mid] - input.pair_start[lo]) as usize;
+        let (first, second) = output.split(mid - lo, pairs);
+        let (a, b) = rayon::join(
+            || owners(input, lo, mid, first),
+            || owners(input, mid, hi, second),
+        );
+        return a + b;
+    }
+    let PairInput {
+        law,
+        domain,
+        x,
+        v,
+        w,
+        radius,
+        mass,
+        pairs,
+        pair_start,
+        update,
+    } = *input;
+    let base = pair_start[lo] as usize;
+    let mut touching = 0u64;
+    for a in lo..hi {
+        let (ra, ma) = (radius[a], mass[a]);
+        // the owner's sums over its pairs: sum F, sum -R_a tor
+        let mut f = [0.0f64; 3];
+        let mut t = [0.0f64; 3];
+        for p in pair_start[a] as usize..pair_start[a + 1] as usize {
+            let b = pairs[p][1] as usize;
+            let q = p - base;
+            // del = x_a - x_b, minimum image
+            let del = domain.min_image([
+                x[a][0] - x[b][0],
+                x[a][1] - x[b][1],
+                x[a][2] - x[b][2],
+            ]);
+            let rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+            let radsum = ra + radius[b];
+            if rsq < radsum * radsum {
+                let c = contact::pair(
+                    law,
+                    del,
+                    rsq,
+                    (ra, radius[b]),
+                    (v[a], v[b]),
+                    (w[a], w[b]),
+                    (ma, mass[b]),
+                    &mut output.shear[q],
+                    update,
+                );
+                output.out[q] = PairOut {
+                    force: c.force,
+                    tor: c.tor,
+                };
+                output.touch[q] = true;
+                touching += 1;
+                for d in 0..3 {
+                    f[d] += c.force[d];
+                    t[d] -= ra * c.tor[d];
+                }
+            } else if output.touch[q] {
+                // the contact ended: its history is dropped
+                output.out[q] = PairOut::default();
+                output.shear[q] = [0.0; 3];
+                output.touch[q] = false;
+            }
+        }
+        output.owned_force[a - lo] = f;
+        output.owned_torque[a - lo] = t;
+    }
+    touching
+}
+
+/// The force of the nearer wall (LAMMPS fix wall/gran with yplane 0 W) on a particle at y,
+/// if it touches: (wall index, del from the wall point, rsq).
+#[inline(always)]
+pub fn nearer_wall(y: f64, radius: f64, width: f64) -> (usize, [f64; 3], bool) {
+    let del1 = y - 0.0;
+    let del2 = width - y;
+    let (wall, dy) = if del1 < del2 { (0, del1) } else { (1, -del2) };
+    let rsq = dy * dy;
+    (wall, [0.0, dy, 0.0], rsq <= radius * radius)
+}
+
+/// The particle pass: gather each particle's forces (pairs in its row's tag order, then the
+/// nearer wall, the floor, gravity), store F and tau, then kick (and drift) as `pass` says.
+/// `record_wall`: keep each particle's wall force (for sampling). Returns the blocks' tallies
+/// in `tallies` and their sum.
+#[allow(clippy::too_many_arguments)]
+pub fn particle_pass(
+    pair_law: &ContactLaw,
+    bounds: &Boundaries,
+    domain: &Domain,
+    bodies: &mut Bodies,
+    list: &NeighbourList,
+    pass: Pass,
+    record_wall: bool,
+    tallies: &mut Vec<Tally>,
+) -> Tally {
+    let update = pass != Pass::Setup;
+    let dt = pair_law.dt;
+    let Bodies {
+        radius,
+        mass,
+        kick_v,
+        kick_w,
+        x,
+        v,
+        w,
+        force,
+        torque,
+        x_build,
+        wall_shear,
+        floor_shear,
+        wall_force,
+        ..
+    } = bodies;
+    let (radius, mass, kick_v, kick_w, x_build) = (&*radius, &*mass, &*kick_v, &*kick_w, &*x_build);
+    let outs = &list.out;
+    let (owned_force, owned_torque) = (&list.owned_force, &list.owned_torque);
+    x.par_chunks_mut(PARTICLE_CHUNK)
+        .zip(v.par_chunks_mut(PARTICLE_CHUNK))
+        .zip(w.par_chunks_mut(PARTICLE_CHUNK))
+        .zip(force.par_chunks_mut(PARTICLE_CHUNK))
+        .zip(torque.par_chunks_mut(PARTICLE_CHUNK))
+        .zip(wall_shear.par_chunks_mut(PARTICLE_CHUNK))
+        .zip(floor_shear.par_chunks_mut(PARTICLE_CHUNK))
+        .zip(wall_force.par_chunks_mut(PARTICLE_CHUNK))
+        .enumerate()
+        .map(|(c, (((((((xs, vs), ws), fs), ts), wss), fss), wfs))| {
+            let mut tally = Tally::default();
+            for k in 0..xs.len() {
+                let i = c * PARTICLE_CHUNK + k;
+                let (r, m) = (radius[i], mass[i]);
+                // F = (sum over the lower part of the row, tag order, of -F_pair)
+                //   + (sum over the owned pairs, formed by the pair kernel); tau alike with
+                //   -R_i tor
+                let mut f = [0.0f64; 3];
+                let mut t = [0.0f64; 3];
+                for &p in list.lower_row(i) {
+                    let o = &outs[p as usize];
+                    for d in 0..3 {
+                        f[d] -= o.force[d];
+                        t[d] -= r * o.tor[d];
+                    }
+                }
+                let (of, ot) = (&owned_force[i], &owned_torque[i]);
+                for d in 0..3 {
+                    f[d] += of[d];
+                    t[d] += ot[d];
+                }
+                // the nearer wall
+                let (wall, del, touching) = nearer_wall(xs[k][1], r, bounds.width);
+                if touching {
+                    let cw = contact::wall(
+                        &bounds.wall_law,
+                        del,
+                        del[1] * del[1],
+                        r,
+                        vs[k],
+                        ws[k],
+                        m,
+                        &mut wss[k],
+                        update,
+                    );
+                    for d in 0..3 {
+                        f[d] += cw.force[d];
+                        t[d] -= r * cw.tor[d];
+                        tally.on_walls[wall][d] -= cw.force[d];
+                    }
+                    tally.wall_contacts += 1;
+                    if record_wall {
+                        wfs[k] = cw.force;
+                    }
+                } else {
+                    if wss[k] != [0.0; 3] {
+                        wss[k] = [0.0; 3];
+                    }
+                    if record_wall {
+                        wfs[k] = [0.0; 3];
+                    }
+                }
+                // the floor (preparation): a wall normal to x at x = floor
+                if let Some(floor) = bounds.floor {
+                    let dx = -(floor - xs[k][0]);
+                    let rsq = dx * dx;
+                    if rsq <= r * r {
+                        let cf = contact::wall(
+                            &bounds.floor_law,
+                            [dx, 0.0, 0.0],
+                            rsq,
+                            r,
+                            vs[k],
+                            ws[k],
+                            m,
+                            &mut fss[k],
+                            update,
+                        );
+                        for d in 0..3 {
+                            f[d] += cf.force[d];
+                            t[d] -= r * cf.tor[d];
+                            tally.on_floor[d] -= cf.force[d];
+                        }
+                        tally.wall_contacts += 1;
+                    } else if fss[k] != [0.0; 3] {
+                        fss[k] = [0.0; 3];
+                    }
+                }
+                // gravity, m g
+                for d in 0..3 {
+                    f[d] += m * bounds.gravity[d];
+                }
+                // F and tau are kept for the next step's initial half step, unless this pass
+                // does that half step itself (they are then not needed again)
+                if pass != Pass::FinalAndNext {
+                    fs[k] = f;
+                    ts[k] = t;
+                }
+                if pass == Pass::Setup {
+                    continue;
+                }
+                // final half step: v += (dt/2) F/m, w += (dt/2) tau/I
+                for d in 0..3 {
+                    vs[k][d] += kick_v[i] * f[d];
+                    ws[k][d] += kick_w[i] * t[d];
+                }
+                if pass == Pass::FinalAndNext {
+                    drift(
+                        domain,
+                        bounds,
+                        dt,
+                        (kick_v[i], kick_w[i], m),
+                        (&mut xs[k], &mut vs[k], &mut ws[k]),
+                        (&f, &t),
+                        &x_build[i],
+                        &mut tally,
+                    );
+                }
+            }
+            tally
+        })
+        .collect_into_vec(tallies);
+    let mut sum = Tally::default();
+    for t in tallies.iter() {
+        sum.add(t);
+    }
+    sum
+}
+
+/// The initial half step of one particle: v += (dt/2) F/m, x += dt v (wrapped), w += (dt/2)
+/// tau/I; tallies the displacement since the list build and the work rate of gravity.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn drift(
+    domain: &Domain,
+    bounds: &Boundaries,
+    dt: f64,
+    (kv, kw, m): (f64, f64, f64),
+    (x, v, w): (&mut [f64; 3], &mut [f64; 3], &mut [f64; 3]),
+    (f, t): (&[f64; 3], &[f64; 3]),
+    x_build: &[f64; 3],
+    tally: &mut Tally,
+) {
+    for d in 0..3 {
+        v[d] += kv * f[d];
+    }
+    for d in 0..3 {
+        x[d] += dt * v[d];
+    }
+    domain.wrap(x);
+    for d in 0..3 {
+        w[d] += kw * t[d];
+    }
+    let g = &bounds.gravity;
+    tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
+    let s = domain.min_image([x[0] - x_build[0], x[1] - x_build[1], x[2] - x_build[2]]);
+    for k in 0..3 {
+        tally.displacement_min[k] = tally.displacement_min[k].min(s[k]);
+        tally.displacement_max[k] = tally.displacement_max[k].max(s[k]);
+    }
+}
+
+/// The initial half step of every particle (when it could not be fused with the previous
+/// step's final one).
+pub fn kick_drift(
+    domain: &Domain,
+    bounds: &Boundaries,
+    dt: f64,
+    bodies: &mut Bodies,
+    tallies: &mut Vec<Tally>,
+) -> Tally {
+    let Bodies {
+        mass,
+        kick_v,
+        kick_w,
+        x,
+        v,
+        w,
+        force,
+        torque,
+        x_build,
+        ..
+    } = bodies;
+    let (mass, kick_v, kick_w, force, torque, x_build) =
+        (&*mass, &*kick_v, &*kick_w, &*force, &*torque, &*x_build);
+    x.par_chunks_mut(PARTICLE_CHUNK)
+        .zip(v.par_chunks_mut(PARTICLE_CHUNK))
+        .zip(w.par_chunks_mut(PARTICLE_CHUNK))
+        .enumerate()
+        .map(|(c, ((xs, vs), ws))| {
+            let mut tally = Tally::default();
+            for k in 0..xs.len() {
+                let i = c * PARTICLE_CHUNK + k;
+                drift(
+                    domain,
+                    bounds,
+                    dt,
+                    (kick_v[i], kick_w[i], mass[i]),
+                    (&mut xs[k], &mut vs[k], &mut ws[k]),
+                    (&force[i], &torque[i]),
+                    &x_build[i],
+                    &mut tally,
+                );
+            }
+            tally
+        })
+        .collect_into_vec(tallies);
+    let mut sum = Tally::default();
+    for t in tallies.iter() {
+        sum.add(t);
+    }
+    sum
+}
