@@ -27,27 +27,29 @@ fn head_on(p: &DemParams, da: f64, db: Option<f64>, n: f64) -> (Measured, Contac
         ..p.clone()
     };
     let dt = p.time_step;
-    let (states, overlap): (Vec<_>, Box<dyn Fn(&[granflow::engine::dem::BodyState]) -> f64>) =
-        match db {
-            Some(db) => {
-                let gap = 0.5 * (da + db) + 0.02;
-                (
-                    vec![
-                        body(da, [4.0, 4.0, 3.0], [0.5, 0.0, 0.0], [0.0; 3]),
-                        body(db, [4.0 + gap, 4.0, 3.0], [-0.5, 0.0, 0.0], [0.0; 3]),
-                    ],
-                    Box::new(move |s| 0.5 * (da + db) - (s[1].position[0] - s[0].position[0])),
-                )
-            }
-            None => (
+    let (states, overlap): (
+        Vec<_>,
+        Box<dyn Fn(&[granflow::engine::dem::BodyState]) -> f64>,
+    ) = match db {
+        Some(db) => {
+            let gap = 0.5 * (da + db) + 0.02;
+            (
                 vec![
-                    body(da, [4.0, 0.5 * da + 0.02, 3.0], [0.0, -1.0, 0.0], [0.0; 3]),
-                    // a bystander far away (a state has at least two particles)
-                    body(da, [10.0, 4.0, 3.0], [0.0; 3], [0.0; 3]),
+                    body(da, [4.0, 4.0, 3.0], [0.5, 0.0, 0.0], [0.0; 3]),
+                    body(db, [4.0 + gap, 4.0, 3.0], [-0.5, 0.0, 0.0], [0.0; 3]),
                 ],
-                Box::new(move |s| 0.5 * da - s[0].position[1]),
-            ),
-        };
+                Box::new(move |s| 0.5 * (da + db) - (s[1].position[0] - s[0].position[0])),
+            )
+        }
+        None => (
+            vec![
+                body(da, [4.0, 0.5 * da + 0.02, 3.0], [0.0, -1.0, 0.0], [0.0; 3]),
+                // a bystander far away (a state has at least two particles)
+                body(da, [10.0, 4.0, 3.0], [0.0; 3], [0.0; 3]),
+            ],
+            Box::new(move |s| 0.5 * da - s[0].position[1]),
+        ),
+    };
     let approach = match db {
         Some(_) => 1.0,
         None => 1.0,
@@ -133,8 +135,16 @@ fn head_on_collisions_give_e_n_and_t_c_of_each_pair_type() {
                 t_err,
                 t_tol
             );
-            assert!(e_err <= e_tol, "{}: e error {e_err:e} > {e_tol:e}", kind.name());
-            assert!(t_err <= t_tol, "{}: t_c error {t_err:e} > {t_tol:e}", kind.name());
+            assert!(
+                e_err <= e_tol,
+                "{}: e error {e_err:e} > {e_tol:e}",
+                kind.name()
+            );
+            assert!(
+                t_err <= t_tol,
+                "{}: t_c error {t_err:e} > {t_tol:e}",
+                kind.name()
+            );
             errors.push((e_err, t_err));
         }
         // the contact time converges (first order: halving dt at least roughly halves the
@@ -168,13 +178,23 @@ fn slip(s: &[granflow::engine::dem::BodyState]) -> ([f64; 3], f64) {
         vs[k] = a.velocity[k] - b.velocity[k] - cross[k];
     }
     let vn = vs[0] * n[0] + vs[1] * n[1] + vs[2] * n[2];
-    ([vs[0] - vn * n[0], vs[1] - vn * n[1], vs[2] - vn * n[2]], vn)
+    (
+        [vs[0] - vn * n[0], vs[1] - vn * n[1], vs[2] - vn * n[2]],
+        vn,
+    )
 }
 
 /// Two equal spheres meet with normal speed v_n = 1 (along x) and tangential slip g_t (along
 /// z), no spin, no damping, k_t = 2/7 k_n and friction `mu`; returns (slip and normal
 /// relative velocity before, after, the engine's final states).
-fn oblique(mu: f64, g_t: f64) -> (([f64; 3], f64), ([f64; 3], f64), Vec<granflow::engine::dem::BodyState>) {
+fn oblique(
+    mu: f64,
+    g_t: f64,
+) -> (
+    ([f64; 3], f64),
+    ([f64; 3], f64),
+    Vec<granflow::engine::dem::BodyState>,
+) {
     let kn = 1e8;
     let mut p = mono(params(kn, 8.0, 6.0, 12.0));
     p.normal_damping = 0.0;
@@ -184,7 +204,12 @@ fn oblique(mu: f64, g_t: f64) -> (([f64; 3], f64), ([f64; 3], f64), Vec<granflow
     p.time_step = t_c / 200.0;
     let states = vec![
         body(1.0, [4.0, 4.0, 3.0], [0.5, 0.0, 0.5 * g_t], [0.0; 3]),
-        body(1.0, [4.0 + 1.0 + 1e-5, 4.0, 3.0], [-0.5, 0.0, -0.5 * g_t], [0.0; 3]),
+        body(
+            1.0,
+            [4.0 + 1.0 + 1e-5, 4.0, 3.0],
+            [-0.5, 0.0, -0.5 * g_t],
+            [0.0; 3],
+        ),
     ];
     let before = slip(&states);
     let mut e = engine(p, &states);
@@ -210,9 +235,15 @@ fn an_oblique_contact_that_sticks_reverses_the_slip() {
     let (before, after, s) = oblique(10.0, g_t);
     let w_dt = std::f64::consts::PI / 200.0;
     let reversal = (after.0[2] + before.0[2]).abs() / g_t;
-    println!("sticking: slip {:?} -> {:?}, |g' + g| / g = {reversal:.2e}", before.0, after.0);
+    println!(
+        "sticking: slip {:?} -> {:?}, |g' + g| / g = {reversal:.2e}",
+        before.0, after.0
+    );
     assert!(reversal <= 4.0 * w_dt * w_dt, "{reversal:e}");
-    assert!((after.1 + before.1).abs() < 4.0 * w_dt * w_dt, "elastic normal rebound");
+    assert!(
+        (after.1 + before.1).abs() < 4.0 * w_dt * w_dt,
+        "elastic normal rebound"
+    );
     // equal spheres spin alike
     assert_eq!(s[0].spin, s[1].spin);
 }
@@ -281,7 +312,10 @@ fn a_sphere_slides_then_rolls_on_a_wall() {
         println!("d = {d}: v({t:.4}) = {} vs {expected}", s.velocity[0]);
         assert!((s.velocity[0] - expected).abs() <= mu * g * dt, "sliding");
         let slip = s.velocity[0] + r * s.spin[2];
-        assert!((slip - (v0 - 3.5 * mu * g * t)).abs() <= 3.5 * mu * g * dt, "slip {slip}");
+        assert!(
+            (slip - (v0 - 3.5 * mu * g * t)).abs() <= 3.5 * mu * g * dt,
+            "slip {slip}"
+        );
         e.advance_to_step(((t_star + 1.0) / dt) as u64).unwrap();
         let s = &e.states()[0];
         let slip = s.velocity[0] + r * s.spin[2];

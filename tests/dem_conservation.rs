@@ -59,8 +59,18 @@ fn energy_and_momentum_are_conserved_without_dissipation() {
             e.advance_to_step(k * steps / 100).unwrap();
             max_dev = max_dev.max((energy(&e) / e0 - 1.0).abs());
             let pm = e.momentum();
-            assert!((pm[0] - p0[0]).abs() <= 1e-12 * scale, "P_x {} -> {}", p0[0], pm[0]);
-            assert!((pm[2] - p0[2]).abs() <= 1e-12 * scale, "P_z {} -> {}", p0[2], pm[2]);
+            assert!(
+                (pm[0] - p0[0]).abs() <= 1e-12 * scale,
+                "P_x {} -> {}",
+                p0[0],
+                pm[0]
+            );
+            assert!(
+                (pm[2] - p0[2]).abs() <= 1e-12 * scale,
+                "P_z {} -> {}",
+                p0[2],
+                pm[2]
+            );
         }
         let c = e.counters();
         println!(

@@ -14,7 +14,12 @@ fn same_contacts(a: &[KeptContact], b: &[KeptContact], what: &str) {
     for (x, y) in a.iter().zip(b) {
         assert_eq!((x.0, x.1), (y.0, y.1), "{what}: pair");
         for k in 0..3 {
-            assert_eq!(x.2[k].to_bits(), y.2[k].to_bits(), "{what}: history of {:?}", (x.0, x.1));
+            assert_eq!(
+                x.2[k].to_bits(),
+                y.2[k].to_bits(),
+                "{what}: history of {:?}",
+                (x.0, x.1)
+            );
         }
     }
 }
@@ -35,7 +40,10 @@ fn beside_reference(e: &mut DemEngine, total: u64, what: &str) -> (u64, usize, u
         call += 1;
         match e.phase() {
             Phase::Preparing(_) => {
-                assert!(!e.prepare(k).unwrap(), "{what}: settled during the comparison");
+                assert!(
+                    !e.prepare(k).unwrap(),
+                    "{what}: settled during the comparison"
+                );
             }
             Phase::Flowing => e.advance_to_step(e.steps() + k).unwrap(),
         }
@@ -160,7 +168,11 @@ fn checkpoint_restore_continue_is_bitwise_the_uninterrupted_run() {
     a.snapshot();
     let bytes = a.checkpoint();
     let mut b = granflow::engine::restore(&bytes).unwrap();
-    assert_eq!(b.checkpoint(), bytes, "a restored engine writes what it read");
+    assert_eq!(
+        b.checkpoint(),
+        bytes,
+        "a restored engine writes what it read"
+    );
     for k in [5.0, 9.0] {
         a.advance(time(k)).unwrap();
         b.advance(time(k)).unwrap();

@@ -67,6 +67,17 @@ fn milestones_are_recorded_read_back_and_survive_kill_9() {
                 );
             }
         }
+        // the evolution figure: the trace above a row of density maps per milestone (six
+        // rows of 300 CSS pixels under a 380-pixel trace, at 96 dpi, plus the heading)
+        let png = dirs.job_dir(&job.id).join("figures/evolution.png");
+        let bytes = std::fs::read(&png).unwrap_or_else(|e| panic!("{}: {e}", png.display()));
+        assert_eq!(&bytes[1..4], b"PNG");
+        let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+        assert!(
+            height >= 380 + 6 * 300,
+            "{}: height {height}",
+            png.display()
+        );
     }
 
     // read back with pyarrow and DuckDB

@@ -374,7 +374,10 @@ fn a_key_of_another_engine_says_so() {
     ]);
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("of the \"edmd\" and \"dem\" engines"), "{stderr}");
+    assert!(
+        stderr.contains("of the \"edmd\" and \"dem\" engines"),
+        "{stderr}"
+    );
     // and a clock the lattice gas does not have
     rejected(
         "lga-clock",

@@ -30,11 +30,13 @@ use crate::sweep::store::FIGURES_DIR;
 use plotters::coord::Shift;
 use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::{Path, PathBuf};
 
 /// One figure of a job.
 pub struct JobFigure {
-    /// file stem: `energy`, `profiles`, `spectra`, `density`, `labels` or `spacetime`
+    /// file stem: `energy`, `profiles`, `spectra`, `density`, `evolution`, `labels`,
+    /// `spacetime`, ...
     pub name: &'static str,
     /// what it shows, in one or two sentences (with the numbers a reader needs)
     pub caption: String,
@@ -50,6 +52,14 @@ enum Plot {
         points: Vec<(f64, f64, f64)>,
         window: Option<(f64, f64)>,
         steady: bool,
+    },
+    /// the energy trace with the milestones marked (clock, what was found there) above the
+    /// density maps of each milestone's snapshot, a row of three planes per milestone
+    Evolution {
+        points: Vec<(f64, f64, f64)>,
+        marks: Vec<(f64, String)>,
+        rows: Vec<(String, Vec<MapPanel>)>,
+        range: (f64, f64),
     },
     /// panels of curves with optional error bars
     Curves(Vec<CurvePanel>),
@@ -149,6 +159,7 @@ impl JobFigure {
     fn natural(&self) -> (u32, u32) {
         match &self.plot {
             Plot::Trace { .. } => (760, 420),
+            Plot::Evolution { rows, .. } => (1040, EVOLUTION_TRACE + 300 * rows.len() as u32),
             Plot::Curves(panels) => (960, 260 * panels.len().div_ceil(3).max(1) as u32),
             Plot::Series(panels) => (
                 if panels.len() < 3 {
@@ -209,7 +220,23 @@ impl JobFigure {
                 points,
                 window,
                 steady,
-            } => draw_trace(root, points, *window, *steady, s),
+            } => draw_trace(root, points, *window, *steady, &[], s),
+            Plot::Evolution {
+                points,
+                marks,
+                rows,
+                range,
+            } => {
+                let (top, maps) = root.split_vertically(s.upx(EVOLUTION_TRACE));
+                draw_trace(&top, points, None, false, marks, s)?;
+                for ((title, panels), area) in
+                    rows.iter().zip(maps.split_evenly((rows.len().max(1), 1)))
+                {
+                    let area = area.titled(title, s.font(14.0))?;
+                    draw_maps(&area, panels, "phi", *range, s)?;
+                }
+                Ok(())
+            }
             Plot::Curves(panels) => {
                 let rows = panels.len().div_ceil(3).max(1);
                 let areas = root.split_evenly((rows, 3));
@@ -392,6 +419,9 @@ fn structure_figures(a: &JobAnalysis, records: &[&SnapshotRecord]) -> Vec<JobFig
     if let Some(f) = density_figure(records) {
         out.push(f);
     }
+    if let Some(f) = evolution_figure(a, records) {
+        out.push(f);
+    }
     if let Some(st) = &a.statistics {
         let width = records.last().map_or(f64::NAN, |r| r.box_extent[1]);
         out.extend(
@@ -512,15 +542,19 @@ fn spectra_figure(a: &JobAnalysis) -> Option<JobFigure> {
 
 /// The phi fields of the last record with fields in the xy, xz and yz planes (averages over
 /// the third axis), in physical coordinates.
-fn density_figure(records: &[&SnapshotRecord]) -> Option<JobFigure> {
-    let r = records.iter().rev().find(|r| {
-        let [n1, n2, n3] = r.grid.map(|k| k as usize);
-        n1 * n2 * n3 > 0
-            && r.grid_volume > 0.0
-            && r.counts_xy.len() == n1 * n2
-            && r.counts_xz.len() == n1 * n3
-            && r.counts_yz.len() == n2 * n3
-    })?;
+/// Whether a record carries the three plane fields of its coarse-graining grid.
+fn has_fields(r: &SnapshotRecord) -> bool {
+    let [n1, n2, n3] = r.grid.map(|k| k as usize);
+    n1 * n2 * n3 > 0
+        && r.grid_volume > 0.0
+        && r.counts_xy.len() == n1 * n2
+        && r.counts_xz.len() == n1 * n3
+        && r.counts_yz.len() == n2 * n3
+}
+
+/// The volume fraction of a record in the xy, xz and yz planes (each averaged over the third
+/// axis; titles prefixed by `prefix`), and the largest value.
+fn density_panels(r: &SnapshotRecord, prefix: &str) -> (Vec<MapPanel>, f64) {
     let [n1, n2, n3] = r.grid.map(|k| k as usize);
     let [l, w, h] = r.box_extent;
     // the grid covers the region open to centres across the channel, [d/2, W - d/2]
@@ -543,7 +577,7 @@ fn density_figure(records: &[&SnapshotRecord]) -> Option<JobFigure> {
         .fold(0.0f64, f64::max);
     let panel =
         |title: &str, xl: &str, yl: &str, xe: &Vec<f64>, ye: &Vec<f64>, v: Vec<f64>| MapPanel {
-            title: title.into(),
+            title: format!("{prefix}{title}"),
             x_label: xl.into(),
             y_label: yl.into(),
             x_edges: xe.clone(),
@@ -552,6 +586,20 @@ fn density_figure(records: &[&SnapshotRecord]) -> Option<JobFigure> {
             marks: Vec::new(),
             wave_numbers: false,
         };
+    (
+        vec![
+            panel("xy (over z)", "x / d", "y / d", &x, &y, xy),
+            panel("xz (over y)", "x / d", "z / d", &x, &z, xz),
+            panel("yz (over x)", "y / d", "z / d", &y, &z, yz),
+        ],
+        hi,
+    )
+}
+
+fn density_figure(records: &[&SnapshotRecord]) -> Option<JobFigure> {
+    let r = records.iter().rev().find(|r| has_fields(r))?;
+    let [n1, n2, n3] = r.grid.map(|k| k as usize);
+    let (panels, hi) = density_panels(r, "");
     Some(JobFigure {
         heading: Heading::default(),
         name: "density",
@@ -562,12 +610,73 @@ fn density_figure(records: &[&SnapshotRecord]) -> Option<JobFigure> {
             r.collisions_per_particle
         ),
         plot: Plot::Maps {
-            panels: vec![
-                panel("xy (over z)", "x / d", "y / d", &x, &y, xy),
-                panel("xz (over y)", "x / d", "z / d", &x, &z, xz),
-                panel("yz (over x)", "y / d", "z / d", &y, &z, yz),
-            ],
+            panels,
             quantity: "phi".into(),
+            range: (0.0, hi.max(1e-6)),
+        },
+    })
+}
+
+/// The evolution of the structure as the thesis shows it for its W/d = 50 boxes: the energy
+/// trace with the milestones marked and, for each milestone, the density of the snapshot
+/// nearest to it in the three planes with the label found over the milestone's window.
+fn evolution_figure(a: &JobAnalysis, records: &[&SnapshotRecord]) -> Option<JobFigure> {
+    if a.milestones.is_empty() || a.energy.is_empty() {
+        return None;
+    }
+    let mut rows = Vec::new();
+    let mut marks = Vec::new();
+    let mut hi = 0.0f64;
+    for m in &a.milestones {
+        let found = format!("{} ({:.0} %)", m.structure, 100.0 * m.probability);
+        marks.push((
+            m.collisions_per_particle,
+            format!("{}: {found}", m.milestone),
+        ));
+        let nearest = records.iter().filter(|r| has_fields(r)).min_by(|p, q| {
+            let d = |r: &&&SnapshotRecord| {
+                (r.collisions_per_particle - m.collisions_per_particle).abs()
+            };
+            d(p).total_cmp(&d(q))
+        });
+        if let Some(r) = nearest {
+            let (panels, top) = density_panels(r, "");
+            hi = hi.max(top);
+            rows.push((
+                format!(
+                    "milestone {} {}: snapshot at {:.0} collisions per particle; {found} over {} snapshots",
+                    m.milestone,
+                    m.clock.replace('_', " "),
+                    r.collisions_per_particle,
+                    m.window_snapshots
+                ),
+                panels,
+            ));
+        }
+    }
+    Some(JobFigure {
+        heading: Heading::default(),
+        name: "evolution",
+        caption: format!(
+            "The structure at the run's milestones ({}), dated as the thesis dates its W/d = 50 \
+             snapshots: energy per particle with the milestones marked (dashed; the label found \
+             over each milestone's window and the share of its snapshots that carry it), and the \
+             volume fraction of the snapshot nearest to each milestone in the xy, xz and yz \
+             planes (each averaged over the third axis), on one colour scale.",
+            a.milestones
+                .iter()
+                .map(|m| format!("{}", m.milestone))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        plot: Plot::Evolution {
+            points: a
+                .energy
+                .iter()
+                .map(|e| (e.collisions_per_particle, e.translational, e.rotational))
+                .collect(),
+            marks,
+            rows,
             range: (0.0, hi.max(1e-6)),
         },
     })
@@ -648,11 +757,18 @@ fn tick(v: &f64) -> String {
     ticks::short(*v)
 }
 
+/// Height of the evolution figure's energy trace, CSS pixels.
+const EVOLUTION_TRACE: u32 = 380;
+
+/// The energy trace: translational and rotational energy per particle against collisions per
+/// particle, the analysis `window` shaded, `marks` (milestones: clock, text) as dashed
+/// vertical lines with their text.
 fn draw_trace<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     points: &[(f64, f64, f64)],
     window: Option<(f64, f64)>,
     steady: bool,
+    marks: &[(f64, String)],
     s: Scale,
 ) -> DrawResult<DB> {
     let (x0, x1) = span(points.iter().map(|p| p.0), false).unwrap_or((0.0, 1.0));
@@ -714,6 +830,27 @@ fn draw_trace<DB: DrawingBackend>(
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + key, y)], colour.stroke_width(line))
                     });
+            }
+            for (k, (at, text)) in marks.iter().enumerate() {
+                chart.draw_series(DashedLineSeries::new(
+                    [(*at, y0), (*at, y1)],
+                    s.px(5),
+                    s.px(4),
+                    BLACK.stroke_width(s.line(1.0)),
+                ))?;
+                // texts alternate between two heights so that neighbours do not overlap
+                // and stand left of their line in the right quarter, so that they stay inside
+                let dy = s.px(4) + if k % 2 == 0 { 0 } else { s.px(16) };
+                let right = *at > x0 + 0.75 * (x1 - x0);
+                let (dx, anchor) = if right {
+                    (-s.px(3), HPos::Right)
+                } else {
+                    (s.px(3), HPos::Left)
+                };
+                let style = TextStyle::from(s.font(11.0)).pos(Pos::new(anchor, VPos::Top));
+                chart.draw_series(std::iter::once(
+                    EmptyElement::at((*at, y1)) + Text::new(text.clone(), (dx, dy), style),
+                ))?;
             }
             chart
                 .configure_series_labels()
@@ -864,9 +1001,7 @@ fn draw_series_panel<DB: DrawingBackend>(
                         BLACK.stroke_width(s.line(1.0)),
                     ))?
                     .label(name.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + s.px(18), y)], BLACK)
-                    });
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + s.px(18), y)], BLACK));
             }
             for (k, (name, points)) in panel.series.iter().enumerate() {
                 let colour = SERIES_COLOURS[k % SERIES_COLOURS.len()];
