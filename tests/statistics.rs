@@ -230,6 +230,7 @@ fn snapshot_of(
             positions,
             velocities,
             angular_velocities: spins,
+            diameters: Vec::new(),
             translational_energy: 0.0,
             rotational_energy: 0.0,
             wall_momentum: [[0.0; 3]; 2],

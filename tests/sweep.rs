@@ -236,12 +236,12 @@ fn malformed_duplicate_points() {
 #[test]
 fn malformed_unknown_engine() {
     let text = sweep_text("", "        length_over_width: [1.0],\n", "", 10.0, 5.0)
-        .replace("engine: \"edmd\"", "engine: \"dem\"");
+        .replace("engine: \"edmd\"", "engine: \"lbm\"");
     assert_rejected(
         "engine",
         &text,
         "engine:",
-        &["\"dem\" does not exist", "\"edmd\""],
+        &["\"lbm\" does not exist", "\"edmd\"", "\"dem\""],
     );
 }
 

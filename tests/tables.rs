@@ -163,8 +163,8 @@ fn the_statistics_tables_read_back_with_pyarrow_and_duckdb() {
         units.insert(table.clone(), serde_json::Value::Object(m));
     }
     let sweep = SWEEPS[0].1.replace(
-        "checkpoint_every: 1000)",
-        "checkpoint_every: 1000, statistics: (bins: 4, r_max: 2.0))",
+        "milestones: [100, 250])",
+        "milestones: [100, 250], statistics: (bins: 4, r_max: 2.0))",
     );
     assert!(sweep.contains("statistics"));
     check_tables(

@@ -66,9 +66,12 @@ pub fn parse(text: &str) -> Vec<ColumnDoc> {
                 .unwrap_or("")
                 .trim()
                 .to_string();
+            // engines in parentheses right after the table's name: `## profiles.parquet
+            // (edmd, dsmc): ...` (not a parenthesis later in the heading: `g(r)`)
             engines = heading
-                .split_once('(')
-                .and_then(|(_, rest)| rest.split_once(')'))
+                .split_once(".parquet")
+                .and_then(|(_, rest)| rest.trim_start().strip_prefix('('))
+                .and_then(|rest| rest.split_once(')'))
                 .map(|(inside, _)| inside.split(',').map(|e| e.trim().to_string()).collect())
                 .unwrap_or_default();
         } else if let Some(engine) = line.strip_prefix("### ") {
