@@ -69,7 +69,11 @@ def derived(kn):
     # x += dt^2 / 2 * field after the straight flight, with field = mag * unit(ex, ey, ez).
     # So SPARTA's mag equals granflow's a = 2 a-hat k T_w / (m W), not a-hat k T_w / (m W)
     # nor a-hat u_c^2 / (2 W): the factor 2 is the one in u_c^2 = 2 k T_w / m. Checked by
-    # run.py --check: SPARTA's mean velocity / (u_c a-hat) is granflow's flow rate Q.
+    # run.py --check (2026-12-03): SPARTA's mean velocity / granflow's = 1.001 at Kn = 0.1 and
+    # 0.969 at Kn = 1. The 3 % is SPARTA's integration, not the conversion: it adds the whole
+    # a dt before the flight and nothing after a wall hit inside the step (the diffuse wall
+    # erases what came before), granflow applies the force before and after the hit; 5.3 % of
+    # SPARTA's moves hit a wall at Kn = 1, losing half a step of force each: 2.7 % of it.
     accel = 2.0 * CASE["forcing"] * k * t / (m * w)
     timed_steps = math.ceil(CASE["timed_moves"] / n_sim)
     return {

@@ -15,7 +15,9 @@ simulators; set-up and start-up are in the CPU time too). Moves: SPARTA's own "P
 moves" counts; granflow's n x (500 + ceil(6e7 / n)) steps. Collisions per move of the timed
 10 000 steps: SPARTA's "Collide occurs / Particle moves" of its second `run`, granflow's
 collisions_per_s / moves_per_s. The table: medians over rounds (range), the median of the
-per-round ratios granflow / SPARTA, and in how many rounds granflow was ahead.
+per-round ratios granflow / SPARTA, and in how many rounds granflow was ahead. --json also
+keeps each run's timed_moves_per_loop_s: the in-process wall-clock rate of the 10 000 timed
+steps (SPARTA's "Loop time", granflow's moves_per_s), which a loaded machine spoils.
 
 --check instead runs each Kn once with the mean velocity tallied (SPARTA: mass-weighted <v_x>
 over the second half; granflow: `granflow sim --analyse`, its steady window), both in
@@ -35,6 +37,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[2]
+sys.dont_write_bytecode = True  # keep the tree clean
 sys.path.insert(0, str(HERE))
 import gen_input  # noqa: E402
 
