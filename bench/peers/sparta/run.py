@@ -151,9 +151,25 @@ def check(spa, binary, directory):
         print(f"| {kn} | {spa_u:.4f} | {gf_u:.4f} +- {float(err.group(1)):.4f} | {spa_u / gf_u:.3f} |")
 
 
+def build_sparta(source):
+    """spa_serial of the checkout at `source`, built with SPARTA's own serial makefile."""
+    src = source.resolve() / "src"
+    binary = src / "spa_serial"
+    if not (src / "Makefile").exists():
+        sys.exit(f"--source {source}: no src/Makefile there (expected a SPARTA checkout)")
+    if not binary.exists():
+        print(f"building {binary} (make -j2 serial) ...", file=sys.stderr, flush=True)
+        subprocess.run(["make", "-j2", "serial"], cwd=src, check=True)
+    return str(binary)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--spa", required=True, help="SPARTA's spa_serial binary")
+    which = ap.add_mutually_exclusive_group(required=True)
+    which.add_argument("--spa", help="SPARTA's spa_serial binary")
+    which.add_argument("--source", help="a SPARTA checkout (https://github.com/sparta/sparta): "
+                       "spa_serial is built there with its own Makefile.serial (make serial, -O3), unpatched, "
+                       "unless it is there already")
     ap.add_argument("--granflow", default=str(ROOT / "target/release/granflow"))
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--case", action="append", help="only this case, e.g. kn1-sampled (repeatable)")
@@ -161,7 +177,7 @@ def main():
     ap.add_argument("--json", help="write every round to this file")
     ap.add_argument("--check", action="store_true", help="compare the mean velocities instead")
     args = ap.parse_args()
-    spa = str(Path(args.spa).resolve())
+    spa = str(Path(args.spa).resolve()) if args.spa else build_sparta(Path(args.source))
     with tempfile.TemporaryDirectory(prefix="granflow-sparta-") as directory:
         gen_input.write_all(directory)
         if args.check:
