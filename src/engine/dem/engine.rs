@@ -589,11 +589,22 @@ impl DemEngine {
         let mut mass = 0.0;
         let mut momentum = [0.0; 3];
         let mut kinetic = [0.0; 2];
+        // this sample's bin totals: (M, P, J, S) for the fluctuations about the instantaneous
+        // bin means
+        let mut now = vec![(0.0, [0.0; 3], 0.0, [0.0; 3]); iv.bins.len()];
         for i in 0..b.len() {
             let (m, r, v, w) = (b.mass[i], b.radius[i], b.v[i], b.w[i]);
             let d = 2.0 * r;
             let inertia = 0.1 * m * d * d;
-            let s = &mut iv.bins[self.bins.of(b.x[i][1])];
+            let bin = self.bins.of(b.x[i][1]);
+            let t = &mut now[bin];
+            t.0 += m;
+            t.2 += inertia;
+            for k in 0..3 {
+                t.1[k] += m * v[k];
+                t.3[k] += inertia * w[k];
+            }
+            let s = &mut iv.bins[bin];
             s.count += 1.0;
             s.volume += PI / 6.0 * d * d * d;
             s.mass += m;
@@ -625,6 +636,14 @@ impl DemEngine {
                 let n = [0.0, del[1].signum(), 0.0];
                 let vs = sub(v, cross(scale(w, r), n));
                 iv.wall_dissipation[wall] -= dot(wf, vs);
+            }
+        }
+        for (s, (m, p, j, l)) in iv.bins.iter_mut().zip(&now) {
+            if *m > 0.0 {
+                for (c, &(a, q)) in SYM.iter().enumerate() {
+                    s.mean_momentum_flux[c] += p[a] * p[q] / m;
+                    s.mean_spin_flux[c] += l[a] * l[q] / j;
+                }
             }
         }
         let mut touching = 0.0;
@@ -885,6 +904,8 @@ pub fn total(bins: &[BinSums]) -> BinSums {
         for k in 0..6 {
             t.momentum_flux[k] += b.momentum_flux[k];
             t.spin_flux[k] += b.spin_flux[k];
+            t.mean_momentum_flux[k] += b.mean_momentum_flux[k];
+            t.mean_spin_flux[k] += b.mean_spin_flux[k];
         }
         for k in 0..9 {
             t.contact_stress[k] += b.contact_stress[k];
