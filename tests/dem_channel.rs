@@ -151,7 +151,7 @@ fn the_walls_carry_the_weight_of_a_steady_flow() {
         (a.wall_force_balance - 1.0).abs() <= 3.0 * a.wall_force_balance_error,
         "{a:?}"
     );
-    assert!(a.steady && a.label == "steady", "{a:?}");
+    assert_eq!(a.label, "steady", "{a:?}");
     let u = |r: &[granflow::engine::dem::Record]| {
         let (mut s, mut n) = (0.0, 0.0);
         for x in r {

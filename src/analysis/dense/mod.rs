@@ -103,9 +103,9 @@ impl DenseSettings {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DenseSummary {
-    /// steady, jammed, accelerating or not-steady
+    /// steady, jammed, accelerating or not-steady (no `steady` flag: jammed and accelerating
+    /// are decided regimes too, and phase diagrams show every label but `not-steady`)
     pub label: String,
-    pub steady: bool,
     /// why the label (empty when steady)
     pub steady_reason: String,
     /// the window, in flow time
@@ -156,7 +156,6 @@ impl Default for DenseSummary {
         let nan = f64::NAN;
         DenseSummary {
             label: "not-steady".into(),
-            steady: false,
             steady_reason: "no records".into(),
             window_start_time: nan,
             window_end_time: nan,
@@ -423,7 +422,6 @@ pub fn analyse(records: &[Record], settings: &DenseSettings) -> DenseAnalysis {
     s.window_start_time = t0;
     s.window_end_time = t1;
     s.window_records = window.len() as u64;
-    s.steady = regime.label == "steady";
     s.label = regime.label;
     s.steady_reason = regime.reason;
     // the window and its blocks
