@@ -4,7 +4,9 @@
 //! and its constant, and the regime of an accelerating and of a stopped flow.
 
 use granflow::analysis::dense::{DenseSettings, analyse, shear_layer};
-use granflow::engine::dem::{BinSums, Bins, DampingFrom, IntervalSums, Record, RunConstants, SizeMix};
+use granflow::engine::dem::{
+    BinSums, Bins, DampingFrom, IntervalSums, Record, RunConstants, SizeMix,
+};
 
 /// W = 10 (bins 0, 1.5, 2.5, ..., 8.5, 10), L = 2, B = 2 (bin cross-section 4).
 const W: f64 = 10.0;
@@ -58,13 +60,7 @@ fn bin(n: f64, m: f64, u: f64, t: f64, phi: f64, volume: f64) -> BinSums {
 
 /// A record of one sample, the bins from `f(centre, volume)`, the walls carrying
 /// `balance` of the weight and the centre of mass at `u_cm`.
-fn record(
-    k: u64,
-    width: f64,
-    balance: f64,
-    u_cm: f64,
-    f: &dyn Fn(f64, f64) -> BinSums,
-) -> Record {
+fn record(k: u64, width: f64, balance: f64, u_cm: f64, f: &dyn Fn(f64, f64) -> BinSums) -> Record {
     let c = constants(width);
     let edges = c.bin_edges.clone();
     let bins = edges
@@ -102,7 +98,11 @@ fn profile(a: &granflow::analysis::dense::DenseAnalysis, q: &str) -> Vec<(f64, f
 #[test]
 fn a_linear_profile_gives_its_shear_rate_temperature_and_volume_fraction() {
     let records: Vec<Record> = (0..10)
-        .map(|k| record(k, W, 1.0, 5.0, &|x, v| bin(20.0, 0.5, 2.0 + 0.3 * x, 0.02, 0.55, v)))
+        .map(|k| {
+            record(k, W, 1.0, 5.0, &|x, v| {
+                bin(20.0, 0.5, 2.0 + 0.3 * x, 0.02, 0.55, v)
+            })
+        })
         .collect();
     let a = analyse(&records, &DenseSettings::default());
     let shear = profile(&a, "shear_rate");
@@ -136,8 +136,10 @@ fn a_linear_profile_gives_its_shear_rate_temperature_and_volume_fraction() {
 /// 0.5 / V; sigma_yy = 0.5 * 0.2 / V; mu = |sigma_xy / sigma_xx| = 0.2 / 3.
 #[test]
 fn the_stress_of_known_contacts_is_compressive_positive_in_the_papers_axes() {
-    let contacts: [([f64; 3], [f64; 3]); 2] =
-        [([0.0, 2.0, 0.0], [0.0, 1.0, 0.0]), ([0.5, 1.0, 0.0], [0.2, 1.0, 0.0])];
+    let contacts: [([f64; 3], [f64; 3]); 2] = [
+        ([0.0, 2.0, 0.0], [0.0, 1.0, 0.0]),
+        ([0.5, 1.0, 0.0], [0.2, 1.0, 0.0]),
+    ];
     let target = 4; // the central bin, [4.5, 5.5], volume 4
     let records: Vec<Record> = (0..10)
         .map(|k| {
@@ -188,7 +190,10 @@ fn profile_errors_are_standard_errors_of_block_values() {
     };
     let a = analyse(&records, &s);
     for (_, v, e) in profile(&a, "velocity") {
-        assert!((v - 2.5).abs() < 1e-12 && (e - 1.0).abs() < 1e-12, "{v} +- {e}");
+        assert!(
+            (v - 2.5).abs() < 1e-12 && (e - 1.0).abs() < 1e-12,
+            "{v} +- {e}"
+        );
     }
     assert!((a.dense_summary.com_velocity - 2.5).abs() < 1e-12);
     assert!((a.dense_summary.com_velocity_error - 1.0).abs() < 1e-12);
@@ -217,14 +222,20 @@ fn the_profile_of_eq_3_1_gives_its_constant_and_thickness() {
     assert!((a.slip_velocity - us).abs() < 1e-12);
     assert!((a.max_velocity - centre).abs() < 1e-12);
     assert!((a.velocity_ratio - centre / us).abs() < 1e-12);
-    assert!((a.shear_layer_thickness / delta - 1.0).abs() < 0.02, "{a:?}");
+    assert!(
+        (a.shear_layer_thickness / delta - 1.0).abs() < 0.02,
+        "{a:?}"
+    );
     assert!((a.profile_constant / 3.0 - 1.0).abs() < 0.03, "{a:?}");
     // on its own: an exact exponential on fine points gives 3 closely
     let x: Vec<f64> = (0..200).map(|k| k as f64 * 0.1).collect();
     let v: Vec<f64> = x.iter().map(|x| 1.0 - (-3.0 * x / 5.0).exp()).collect();
     let (d, c) = shear_layer(&x, &v);
     // (linear interpolation of delta between points 0.1 apart: 0.3 %)
-    assert!((d / 5.0 - 1.0).abs() < 3e-3 && (c / 3.0 - 1.0).abs() < 3e-3, "{d} {c}");
+    assert!(
+        (d / 5.0 - 1.0).abs() < 3e-3 && (c / 3.0 - 1.0).abs() < 3e-3,
+        "{d} {c}"
+    );
 }
 
 /// Regimes from the momentum balance: walls carrying 80 % of the weight (the flow gains
@@ -247,5 +258,8 @@ fn the_balance_and_the_velocity_give_the_regime() {
     assert!((a.wall_force_balance - 1.0).abs() < 0.01);
     // the wall friction coefficient: flow-wise over normal force on both walls, beta M g / 6
     let expect = a.wall_force_balance * MASS / 6.0;
-    assert!((a.wall_friction_coefficient / expect - 1.0).abs() < 1e-12, "{a:?}");
+    assert!(
+        (a.wall_friction_coefficient / expect - 1.0).abs() < 1e-12,
+        "{a:?}"
+    );
 }

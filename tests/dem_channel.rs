@@ -26,7 +26,9 @@ fn values(pairs: &[(&str, f64)]) -> Values {
 }
 
 fn resolve(pairs: &[(&str, f64)]) -> Result<Values, Problem> {
-    registry::find("dem").unwrap().resolve_values(&values(pairs))
+    registry::find("dem")
+        .unwrap()
+        .resolve_values(&values(pairs))
 }
 
 fn number(v: &Values, k: &str) -> f64 {
@@ -59,7 +61,9 @@ fn a_coarse_time_step_is_refused_naming_the_key() {
         .fold(f64::INFINITY, f64::min);
     assert!(resolve(&[("time_step", t_min / 10.0)]).is_ok());
     assert_eq!(
-        resolve(&[("time_step", 1.01 * t_min / 10.0)]).unwrap_err().key,
+        resolve(&[("time_step", 1.01 * t_min / 10.0)])
+            .unwrap_err()
+            .key,
         "time_step"
     );
     // and on the command line: exit 2 before anything runs, the key named

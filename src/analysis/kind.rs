@@ -131,8 +131,7 @@ impl AnalysisKind {
                 Ok(Analyser::Rarefied(s))
             }
             AnalysisKind::Dense => {
-                let s: DenseSettings = serde_json::from_value(given)
-                    .map_err(|e| {
+                let s: DenseSettings = serde_json::from_value(given).map_err(|e| {
                     format!(
                         "{e}; allowed keys: blocks, window_fraction, jam_froude, balance_tolerance"
                     )
@@ -352,7 +351,10 @@ const SERIES_TABLE: TableDef = TableDef {
     name: "series",
     columns: &[
         f64_column("time", "flow time at the end of the record's interval"),
-        f64_column("com_velocity", "mean u_cm along the flow over the record's samples"),
+        f64_column(
+            "com_velocity",
+            "mean u_cm along the flow over the record's samples",
+        ),
         f64_column(
             "wall_force_balance",
             "both walls' flow-wise force over M g over the record's steps",

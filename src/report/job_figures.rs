@@ -998,9 +998,7 @@ fn draw_series_panel<DB: DrawingBackend>(
                         BLACK.stroke_width(s.line(1.0)),
                     ))?
                     .label(name.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + s.px(18), y)], BLACK)
-                    });
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + s.px(18), y)], BLACK));
             }
             for (k, (name, points)) in panel.series.iter().enumerate() {
                 let colour = SERIES_COLOURS[k % SERIES_COLOURS.len()];

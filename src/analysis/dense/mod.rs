@@ -275,7 +275,10 @@ fn scalars(t: &Totals, f: &[BinFields], g: &Geometry, r: &Record) -> [f64; SCALA
     let (u_slip, u_max) = (u[0], u[u.len() - 1]);
     let (delta, constant) = shear_layer(&x, &u);
     let n = f.len();
-    let interior: Vec<f64> = f[1..n.saturating_sub(1)].iter().map(|f| f.stress[0][0]).collect();
+    let interior: Vec<f64> = f[1..n.saturating_sub(1)]
+        .iter()
+        .map(|f| f.stress[0][0])
+        .collect();
     let normal = interior.iter().sum::<f64>() / interior.len() as f64;
     let wf = &t.wall_force;
     let wall_normal = 0.5 * (wf[0][1].abs() + wf[1][1].abs()) / (t.force_steps * g.area);
@@ -348,7 +351,10 @@ pub fn regime_of(records: &[Record], settings: &DenseSettings) -> Option<(Regime
     let first = window.first()?;
     let dt = first.constants.time_step;
     let blocks = blocks(window, settings.blocks.min(window.len()));
-    let betas: Vec<f64> = blocks.iter().map(|b| balance(&Totals::of(b), first)).collect();
+    let betas: Vec<f64> = blocks
+        .iter()
+        .map(|b| balance(&Totals::of(b), first))
+        .collect();
     let t = Totals::of(window);
     let last = Totals::of(blocks.last()?);
     let x = RegimeInput {
@@ -457,10 +463,13 @@ pub fn analyse(records: &[Record], settings: &DenseSettings) -> DenseAnalysis {
     (s.profile_constant, s.profile_constant_error) = pairs[6];
     (s.normal_stress, s.normal_stress_error) = pairs[7];
     (s.wall_normal_stress, s.wall_normal_stress_error) = pairs[8];
-    (s.wall_friction_coefficient, s.wall_friction_coefficient_error) = pairs[9];
+    (
+        s.wall_friction_coefficient,
+        s.wall_friction_coefficient_error,
+    ) = pairs[9];
     let u: Vec<f64> = series(window, 0).iter().map(|r| r.com_velocity).collect();
-    s.com_velocity_fluctuation =
-        standard_error(&u) * (u.len() as f64).sqrt() / (u.iter().sum::<f64>() / u.len() as f64).abs();
+    s.com_velocity_fluctuation = standard_error(&u) * (u.len() as f64).sqrt()
+        / (u.iter().sum::<f64>() / u.len() as f64).abs();
     // profiles with block errors
     let centres = g.centres();
     let width = g.width();
@@ -489,8 +498,14 @@ pub fn analyse(records: &[Record], settings: &DenseSettings) -> DenseAnalysis {
         });
     }
     // zones from the folded profiles
-    let phi = fold(&whole.iter().map(|f| f.volume_fraction).collect::<Vec<_>>(), false);
-    let shear = fold(&whole.iter().map(|f| f.shear_rate).collect::<Vec<_>>(), true);
+    let phi = fold(
+        &whole.iter().map(|f| f.volume_fraction).collect::<Vec<_>>(),
+        false,
+    );
+    let shear = fold(
+        &whole.iter().map(|f| f.shear_rate).collect::<Vec<_>>(),
+        true,
+    );
     // the folded shear's error: the block SE of the folded block values
     let shear_error: Vec<f64> = (0..shear.len())
         .map(|k| {

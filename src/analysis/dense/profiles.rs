@@ -266,8 +266,7 @@ pub fn derivative(x: &[f64], f: &[f64]) -> Vec<f64> {
                 (f[k] - f[k - 1]) / (x[k] - x[k - 1])
             } else {
                 let (h1, h2) = (x[k] - x[k - 1], x[k + 1] - x[k]);
-                (h1 * h1 * (f[k + 1] - f[k]) + h2 * h2 * (f[k] - f[k - 1]))
-                    / (h1 * h2 * (h1 + h2))
+                (h1 * h1 * (f[k + 1] - f[k]) + h2 * h2 * (f[k] - f[k - 1])) / (h1 * h2 * (h1 + h2))
             }
         })
         .collect()

@@ -77,11 +77,17 @@ pub fn regime(x: &RegimeInput, rules: &RegimeRules) -> Regime {
         );
     }
     if !e.is_finite() || !b.is_finite() {
-        return out("not-steady", "the wall-force balance has no finite error".into());
+        return out(
+            "not-steady",
+            "the wall-force balance has no finite error".into(),
+        );
     }
     let walls = format!("the walls carry {b:.4} +- {e:.4} of the weight");
     if 1.0 - b > 3.0 * e {
-        return out("accelerating", format!("{walls} (< 1 by more than 3 standard errors)"));
+        return out(
+            "accelerating",
+            format!("{walls} (< 1 by more than 3 standard errors)"),
+        );
     }
     if b - 1.0 > 3.0 * e {
         return out(

@@ -70,9 +70,8 @@ pub fn zones(
             centres[k - 1] + t.clamp(0.0, 1.0) * (centres[k] - centres[k - 1])
         }
     };
-    let plug = inner_run(&|k| {
-        phi[k] >= PHI_PLUG && shear[k].abs() <= ZERO_SHEAR_ERRORS * shear_error[k]
-    });
+    let plug =
+        inner_run(&|k| phi[k] >= PHI_PLUG && shear[k].abs() <= ZERO_SHEAR_ERRORS * shear_error[k]);
     let plug_start = plug.map_or(f64::NAN, |k| edges[k]);
     let loose_width = if dense_start.is_nan() {
         (width / 2.0 - WALL_LAYER).max(0.0)
@@ -106,7 +105,10 @@ mod tests {
         let error = [0.01, 0.01, 0.01, 0.001, 0.001];
         let z = zones(&CENTRES, &EDGES, &phi, &shear, &error, 10.0);
         // phi crosses 0.587 between 2 (0.57) and 3 (0.60): at 2 + 17/30
-        assert!((z.dense_start - (2.0 + 0.017 / 0.03)).abs() < 1e-12, "{z:?}");
+        assert!(
+            (z.dense_start - (2.0 + 0.017 / 0.03)).abs() < 1e-12,
+            "{z:?}"
+        );
         assert_eq!(z.plug_start, 3.5);
         assert_eq!(z.plug_width, 3.0);
         assert!((z.loose_width - (z.dense_start - 2.0)).abs() < 1e-12);
