@@ -662,12 +662,14 @@ fn dense_figures(a: &crate::analysis::dense::DenseAnalysis) -> Vec<JobFigure> {
         // mu against log10 I (a linear axis of the logarithm)
         let mu = of("mu");
         let i = of("inertial_number");
-        let mu_of_i: Vec<(f64, f64, f64)> = i
+        // (sorted by I: the two halves of the channel on one curve)
+        let mut mu_of_i: Vec<(f64, f64, f64)> = i
             .iter()
             .zip(&mu)
             .filter(|(i, m)| i.1 > 0.0 && m.1.is_finite())
             .map(|(i, m)| (i.1.log10(), m.1, m.2))
             .collect();
+        mu_of_i.sort_by(|a, b| a.0.total_cmp(&b.0));
         out.push(JobFigure {
             heading: Heading::default(),
             name: "profiles",
