@@ -147,10 +147,10 @@ fn the_stress_of_known_contacts_is_compressive_positive_in_the_papers_axes() {
                 let mut b = bin(10.0, 0.5, 1.0, 0.0, 0.5, v);
                 if (x - 5.0).abs() < 0.1 {
                     for (f, r) in &contacts {
-                        for a in 0..3 {
-                            for c in 0..3 {
+                        for (a, fa) in f.iter().enumerate() {
+                            for (c, rc) in r.iter().enumerate() {
                                 // both particles in this bin: twice F_a r_b / 2
-                                b.contact_stress[3 * a + c] += 2.0 * 0.5 * f[a] * r[c];
+                                b.contact_stress[3 * a + c] += 2.0 * 0.5 * fa * rc;
                             }
                         }
                     }

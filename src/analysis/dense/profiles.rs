@@ -212,21 +212,15 @@ pub fn fields(t: &Totals, g: &Geometry) -> Vec<BinFields> {
             } else {
                 None
             };
-            let mut ours = [[0.0; 3]; 3];
-            for a in 0..3 {
-                for c in 0..3 {
-                    let s = sym(a, c);
-                    let kinetic = b.momentum_flux[s] - b.mean_momentum_flux[s];
-                    let walls = wall.map_or(0.0, |w| t.wall_stress[w][3 * a + c]);
-                    ours[a][c] = (b.contact_stress[3 * a + c] + walls + kinetic) / sv;
-                }
-            }
-            let mut stress = [[0.0; 3]; 3];
-            for a in 0..3 {
-                for c in 0..3 {
-                    stress[a][c] = ours[PAPER[a]][PAPER[c]];
-                }
-            }
+            // ours (a, c): contact + wall contacts + kinetic, over S V
+            let ours = |a: usize, c: usize| {
+                let s = sym(a, c);
+                let kinetic = b.momentum_flux[s] - b.mean_momentum_flux[s];
+                let walls = wall.map_or(0.0, |w| t.wall_stress[w][3 * a + c]);
+                (b.contact_stress[3 * a + c] + walls + kinetic) / sv
+            };
+            let stress: [[f64; 3]; 3] =
+                std::array::from_fn(|a| std::array::from_fn(|c| ours(PAPER[a], PAPER[c])));
             let fluct: f64 = (0..3)
                 .map(|a| {
                     let s = sym(a, a);
@@ -272,9 +266,12 @@ pub fn derivative(x: &[f64], f: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// How a quantity is read off a bin's fields.
+pub type Reading = fn(&BinFields) -> f64;
+
 /// The profiled quantities: name and how to read it off a bin's fields (names of the long
 /// profiles table).
-pub const QUANTITIES: &[(&str, fn(&BinFields) -> f64)] = &[
+pub const QUANTITIES: &[(&str, Reading)] = &[
     ("volume_fraction", |f| f.volume_fraction),
     ("velocity", |f| f.velocity),
     ("spin", |f| f.spin),
@@ -316,10 +313,6 @@ pub fn sphere_volume(d: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn geometry(edges: Vec<f64>) -> Geometry {
-        Geometry { edges, area: 4.0 }
-    }
 
     #[test]
     fn the_derivative_of_a_linear_profile_is_its_slope_on_unequal_bins() {

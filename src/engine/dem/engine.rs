@@ -638,10 +638,10 @@ impl DemEngine {
             let wf = b.wall_force[i];
             if wf != [0.0; 3] {
                 let (wall, del, _) = forces::nearer_wall(b.x[i][1], r, bounds.width);
-                for a in 0..3 {
-                    iv.sampled_wall_force[wall][a] -= wf[a];
-                    for c in 0..3 {
-                        iv.wall_stress[wall][3 * a + c] += wf[a] * del[c];
+                for (a, fa) in wf.iter().enumerate() {
+                    iv.sampled_wall_force[wall][a] -= fa;
+                    for (c, dc) in del.iter().enumerate() {
+                        iv.wall_stress[wall][3 * a + c] += fa * dc;
                     }
                 }
                 let n = [0.0, del[1].signum(), 0.0];
@@ -668,9 +668,9 @@ impl DemEngine {
             let r = self.domain.min_image(sub(b.x[a], b.x[c]));
             let f = self.list.out[p].force;
             let (ba, bc) = (self.bins.of(b.x[a][1]), self.bins.of(b.x[c][1]));
-            for k in 0..3 {
-                for l in 0..3 {
-                    let s = 0.5 * f[k] * r[l];
+            for (k, fk) in f.iter().enumerate() {
+                for (l, rl) in r.iter().enumerate() {
+                    let s = 0.5 * fk * rl;
                     iv.bins[ba].contact_stress[3 * k + l] += s;
                     iv.bins[bc].contact_stress[3 * k + l] += s;
                 }
@@ -684,8 +684,8 @@ impl DemEngine {
             iv.bins[mid].dissipation -= dot(f, vs);
             iv.bins[mid].contacts += 1.0;
         }
-        for k in 0..3 {
-            iv.com_velocity[k] += momentum[k] / mass;
+        for (u, p) in iv.com_velocity.iter_mut().zip(momentum) {
+            *u += p / mass;
         }
         iv.kinetic_energy[0] += kinetic[0];
         iv.kinetic_energy[1] += kinetic[1];
@@ -698,9 +698,9 @@ impl DemEngine {
     pub fn momentum(&self) -> [f64; 3] {
         let b = &self.bodies;
         let mut p = [0.0; 3];
-        for i in 0..b.len() {
-            for k in 0..3 {
-                p[k] += b.mass[i] * b.v[i][k];
+        for (m, v) in b.mass.iter().zip(&b.v) {
+            for (pk, vk) in p.iter_mut().zip(v) {
+                *pk += m * vk;
             }
         }
         p
