@@ -68,8 +68,6 @@ pub struct StatisticsSnapshot {
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
-// one per job, moved a few times: the size of the structure variant does not matter
-#[allow(clippy::large_enum_variant)]
 pub enum Analysis {
     Structure(JobAnalysis),
     Lattice(LatticeAnalysis),
