@@ -96,27 +96,28 @@ fn the_damping_is_given_one_way_and_recorded() {
     assert!(p.message.contains("overdamps"), "{}", p.message);
 }
 
-/// A short channel run (W = 10, B = 5, L = 10 d_p, phi-bar = 0.56, the paper's mix and law
-/// at the softer k_n = 1e5 with its scaled step): after the preparation the packing falls
-/// freely for some 15 time units (released from the floor, it carries no stress, so the
-/// walls hold nothing) until the fluctuations close the gap; then the flow is steady, a
-/// loose one (about 0.45 contacts per particle) at u_cm ~ 8 sqrt(g d_p), within 25 time
-/// units. Observed this way, because a cheaper system that reaches a steady *dense* flow was
-/// not found (narrower or denser channels jam or fall freely for longer).
+/// A short channel run (W = 10, B = 5, L = 10 d_p, phi-bar = 0.57, close to the settled
+/// packing of this channel, 0.576; the paper's mix and law at the softer k_n = 1e5 with its
+/// scaled step): released from the floor, the packing falls freely for some 8 time units (it
+/// carries no stress, so the walls hold nothing), is sheared apart by the walls and settles
+/// into a steady, loose flow at u_cm ~ 5 sqrt(g d_p) within 40 time units. (phi-bar = 0.56
+/// gave 1.78 +- 0.89 of the weight at t = 30-60: it had not settled yet. A cheaper steady
+/// *dense* flow was not found: narrower or denser channels do not fit their packing or jam.)
 ///
 /// Checks, with the engine driven as a job drives it (snapshots every time unit, the dense
-/// analysis over the second half):
+/// analysis over the second half, t = 40-80, in 5 blocks of 8 time units):
 /// - the exact momentum bookkeeping of every interval: the change of the total x momentum is
 ///   the impulse of gravity minus the x impulse of the particles on both walls, to round-off
 ///   (1e-9 of the gravity impulse: the pair forces cancel only to round-off in the
 ///   per-particle sums);
 /// - the steady momentum balance (dem.md A3.2): the time-averaged x force on both walls is
 ///   the weight within 3 standard errors of its block means (the walls carry the weight), and
-///   that error is below 5 % (so that the test can fail);
-/// - the flow is steady in the window: the mean velocity of its first and second halves
-///   agree within 3 combined standard errors.
+///   that error is below 5 % (so that the test can fail: the phi-bar = 0.56 run missed by
+///   0.78, and an accelerating flow at 0.9 g would miss by 2 errors);
+/// - the analysis calls it steady, and the flow is steady in the window: the mean velocity of
+///   its halves agree within 3 combined standard errors (each half's error taken as the
+///   window's times sqrt(2)), and it flows.
 #[test]
-#[ignore = "WIP: at t = 30-60 the balance reads 1.78 +- 0.89 and u_cm 17 +- 5.6; the run is not steady yet"]
 fn the_walls_carry_the_weight_of_a_steady_flow() {
     use granflow::analysis::dense::{DenseSettings, analyse};
     use granflow::engine::dem::{DemEngine, DemParams, params};
@@ -126,13 +127,13 @@ fn the_walls_carry_the_weight_of_a_steady_flow() {
         normal_stiffness: kn,
         normal_damping: params::damping_for_restitution(0.82, kn),
         time_step: params::default_time_step(kn),
-        ..DemParams::channel(10.0, 5.0, 10.0, 0.56, 1)
+        ..DemParams::channel(10.0, 5.0, 10.0, 0.57, 1)
     };
     let mut e = DemEngine::new(p).unwrap();
     let weight = e.constants().total_mass;
     e.snapshot();
     let mut records = Vec::new();
-    for k in 1..=60 {
+    for k in 1..=80 {
         e.advance(StopAt::Time(k as f64)).unwrap();
         let s = e.snapshot();
         let r = s.dem().unwrap().record.clone();
@@ -146,21 +147,15 @@ fn the_walls_carry_the_weight_of_a_steady_flow() {
         );
         records.push(r);
     }
-    let a = analyse(&records, &DenseSettings { blocks: 5 }).dense_summary;
+    let a = analyse(&records, &DenseSettings::default()).dense_summary;
     println!("{a:?}");
-    assert_eq!(a.window_records, 30);
+    assert_eq!(a.window_records, 40);
     assert!(a.wall_force_balance_error < 0.05, "{a:?}");
     assert!(
         (a.wall_force_balance - 1.0).abs() <= 3.0 * a.wall_force_balance_error,
         "{a:?}"
     );
-    assert!(a.steady && a.label == "steady");
-    let half = |r: &[granflow::engine::dem::Record]| {
-        analyse(r, &DenseSettings { blocks: 3 }).dense_summary
-    };
-    // the halves of the window (records 30..45 and 45..60, each analysed over all of itself)
-    let (first, second) = (half(&records[15..45]), half(&records[30..60]));
-    let _ = (&first, &second);
+    assert_eq!(a.label, "steady", "{a:?}");
     let u = |r: &[granflow::engine::dem::Record]| {
         let (mut s, mut n) = (0.0, 0.0);
         for x in r {
@@ -169,9 +164,9 @@ fn the_walls_carry_the_weight_of_a_steady_flow() {
         }
         s / n
     };
-    let (u1, u2) = (u(&records[30..45]), u(&records[45..60]));
+    let (u1, u2) = (u(&records[40..60]), u(&records[60..80]));
     assert!(
-        (u1 - u2).abs() <= 3.0 * 2f64.sqrt() * a.com_velocity_error.max(1e-3),
+        (u1 - u2).abs() <= 3.0 * 2.0 * a.com_velocity_error,
         "u_cm {u1} then {u2} (error {})",
         a.com_velocity_error
     );

@@ -26,8 +26,9 @@ pub enum AnalysisKind {
     /// profiles, flow rate, slips, normal-stress differences, balances, mixture segregation,
     /// each with a block-average error over the detected steady window
     Rarefied,
-    /// a dense frictional flow by DEM (Debnath, Rao & Kumaran 2022): for now the mean
-    /// centre-of-mass velocity and the wall-force balance with block errors, and a label
+    /// a dense frictional flow by DEM (Debnath, Rao & Kumaran 2022): time-averaged profiles
+    /// across the channel with block errors, slip and shear-layer numbers, the exact
+    /// wall-force balance, zones, the centre-of-mass series and a regime label
     Dense,
 }
 
@@ -67,8 +68,6 @@ pub struct StatisticsSnapshot {
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
-// one per job, moved a few times: the size of the structure variant does not matter
-#[allow(clippy::large_enum_variant)]
 pub enum Analysis {
     Structure(JobAnalysis),
     Lattice(LatticeAnalysis),
@@ -85,7 +84,7 @@ impl AnalysisKind {
             AnalysisKind::Structure => 2,
             AnalysisKind::Lattice => 1,
             AnalysisKind::Rarefied => 1,
-            AnalysisKind::Dense => 1,
+            AnalysisKind::Dense => 2,
         }
     }
 
@@ -97,7 +96,7 @@ impl AnalysisKind {
 
     /// Whether a run of this kind can stop once steady (`run.until_steady`).
     pub fn supports_until_steady(self) -> bool {
-        matches!(self, AnalysisKind::Structure)
+        matches!(self, AnalysisKind::Structure | AnalysisKind::Dense)
     }
 
     /// Parse and check the settings of a sweep's `analysis` section (missing keys take their
@@ -130,8 +129,11 @@ impl AnalysisKind {
                 Ok(Analyser::Rarefied(s))
             }
             AnalysisKind::Dense => {
-                let s: DenseSettings = serde_json::from_value(given)
-                    .map_err(|e| format!("{e}; allowed keys: blocks"))?;
+                let s: DenseSettings = serde_json::from_value(given).map_err(|e| {
+                    format!(
+                        "{e}; allowed keys: blocks, window_fraction, jam_froude, balance_tolerance"
+                    )
+                })?;
                 s.validate()?;
                 Ok(Analyser::Dense(s))
             }
@@ -191,7 +193,7 @@ impl AnalysisKind {
             AnalysisKind::Structure => STRUCTURE_TABLES,
             AnalysisKind::Lattice => LATTICE_TABLES,
             AnalysisKind::Rarefied => RAREFIED_TABLES,
-            AnalysisKind::Dense => &[],
+            AnalysisKind::Dense => DENSE_TABLES,
         }
     }
 }
@@ -339,6 +341,32 @@ const STRUCTURE_TABLES: &[TableDef] = &[
 ];
 
 const RAREFIED_TABLES: &[TableDef] = &[PROFILES_TABLE];
+
+const DENSE_TABLES: &[TableDef] = &[PROFILES_TABLE, SERIES_TABLE];
+
+/// The DEM centre-of-mass series, one row per record.
+const SERIES_TABLE: TableDef = TableDef {
+    name: "series",
+    columns: &[
+        f64_column("time", "flow time at the end of the record's interval"),
+        f64_column(
+            "com_velocity",
+            "mean u_cm along the flow over the record's samples",
+        ),
+        f64_column(
+            "wall_force_balance",
+            "both walls' flow-wise force over M g over the record's steps",
+        ),
+        f64_column("translational_energy", "mean m v^2 / 2 per particle"),
+        f64_column("rotational_energy", "mean I w^2 / 2 per particle"),
+        f64_column("coordination_number", "mean contacts per particle"),
+        ColumnDef {
+            name: "in_window",
+            kind: ColumnKind::Bool,
+            doc: "the record is in the analysis window",
+        },
+    ],
+};
 
 /// The fields of a milestone's `peaks`.
 const PLANE_PEAK_FIELDS: &[ColumnDef] = &[
@@ -631,8 +659,23 @@ impl Analyser {
                     .collect();
                 super::steady_over(&records, s, clock, window, &mut check.structure)
             }
+            Analyser::Dense(s) => {
+                let records: Vec<DenseRecord> = records
+                    .iter()
+                    .filter_map(|r| match r {
+                        Record::Dense(r) => Some((**r).clone()),
+                        _ => None,
+                    })
+                    .collect();
+                // the window in flow time (a run on the steps clock gives steps)
+                let span = match (clock, records.first()) {
+                    (crate::engine::Clock::Steps, Some(r)) => window * r.constants.time_step,
+                    _ => window,
+                };
+                super::dense::stop_reason(&records, s, span)
+            }
             // validation refuses `until_steady` for kinds without a steady rule
-            Analyser::Lattice(_) | Analyser::Rarefied(_) | Analyser::Dense(_) => None,
+            Analyser::Lattice(_) | Analyser::Rarefied(_) => None,
         }
     }
 }
@@ -846,7 +889,37 @@ impl Analysis {
                     .collect(),
                 _ => Vec::new(),
             },
-            Analysis::Dense(_) => Vec::new(),
+            Analysis::Dense(a) => match table {
+                "profiles" => a
+                    .profiles
+                    .iter()
+                    .map(|r| {
+                        vec![
+                            r.quantity.as_str().into(),
+                            r.bin.into(),
+                            r.coordinate.into(),
+                            r.value.into(),
+                            r.error.into(),
+                        ]
+                    })
+                    .collect(),
+                "series" => a
+                    .series
+                    .iter()
+                    .map(|r| {
+                        vec![
+                            r.time.into(),
+                            r.com_velocity.into(),
+                            r.wall_force_balance.into(),
+                            r.translational_energy.into(),
+                            r.rotational_energy.into(),
+                            r.coordination_number.into(),
+                            Cell::Bool(r.in_window),
+                        ]
+                    })
+                    .collect(),
+                _ => Vec::new(),
+            },
         }
     }
 }

@@ -600,11 +600,22 @@ impl DemEngine {
         let mut mass = 0.0;
         let mut momentum = [0.0; 3];
         let mut kinetic = [0.0; 2];
+        // this sample's bin totals: (M, P, J, S) for the fluctuations about the instantaneous
+        // bin means
+        let mut now = vec![(0.0, [0.0; 3], 0.0, [0.0; 3]); iv.bins.len()];
         for i in 0..b.len() {
             let (m, r, v, w) = (b.mass[i], b.radius[i], b.v[i], b.w[i]);
             let d = 2.0 * r;
             let inertia = 0.1 * m * d * d;
-            let s = &mut iv.bins[self.bins.of(b.x[i][1])];
+            let bin = self.bins.of(b.x[i][1]);
+            let t = &mut now[bin];
+            t.0 += m;
+            t.2 += inertia;
+            for k in 0..3 {
+                t.1[k] += m * v[k];
+                t.3[k] += inertia * w[k];
+            }
+            let s = &mut iv.bins[bin];
             s.count += 1.0;
             s.volume += PI / 6.0 * d * d * d;
             s.mass += m;
@@ -627,15 +638,23 @@ impl DemEngine {
             let wf = b.wall_force[i];
             if wf != [0.0; 3] {
                 let (wall, del, _) = forces::nearer_wall(b.x[i][1], r, bounds.width);
-                for a in 0..3 {
-                    iv.sampled_wall_force[wall][a] -= wf[a];
-                    for c in 0..3 {
-                        iv.wall_stress[wall][3 * a + c] += wf[a] * del[c];
+                for (a, fa) in wf.iter().enumerate() {
+                    iv.sampled_wall_force[wall][a] -= fa;
+                    for (c, dc) in del.iter().enumerate() {
+                        iv.wall_stress[wall][3 * a + c] += fa * dc;
                     }
                 }
                 let n = [0.0, del[1].signum(), 0.0];
                 let vs = sub(v, cross(scale(w, r), n));
                 iv.wall_dissipation[wall] -= dot(wf, vs);
+            }
+        }
+        for (s, (m, p, j, l)) in iv.bins.iter_mut().zip(&now) {
+            if *m > 0.0 {
+                for (c, &(a, q)) in SYM.iter().enumerate() {
+                    s.mean_momentum_flux[c] += p[a] * p[q] / m;
+                    s.mean_spin_flux[c] += l[a] * l[q] / j;
+                }
             }
         }
         let mut touching = 0.0;
@@ -649,9 +668,9 @@ impl DemEngine {
             let r = self.domain.min_image(sub(b.x[a], b.x[c]));
             let f = self.list.out[p].force;
             let (ba, bc) = (self.bins.of(b.x[a][1]), self.bins.of(b.x[c][1]));
-            for k in 0..3 {
-                for l in 0..3 {
-                    let s = 0.5 * f[k] * r[l];
+            for (k, fk) in f.iter().enumerate() {
+                for (l, rl) in r.iter().enumerate() {
+                    let s = 0.5 * fk * rl;
                     iv.bins[ba].contact_stress[3 * k + l] += s;
                     iv.bins[bc].contact_stress[3 * k + l] += s;
                 }
@@ -665,8 +684,8 @@ impl DemEngine {
             iv.bins[mid].dissipation -= dot(f, vs);
             iv.bins[mid].contacts += 1.0;
         }
-        for k in 0..3 {
-            iv.com_velocity[k] += momentum[k] / mass;
+        for (u, p) in iv.com_velocity.iter_mut().zip(momentum) {
+            *u += p / mass;
         }
         iv.kinetic_energy[0] += kinetic[0];
         iv.kinetic_energy[1] += kinetic[1];
@@ -679,9 +698,9 @@ impl DemEngine {
     pub fn momentum(&self) -> [f64; 3] {
         let b = &self.bodies;
         let mut p = [0.0; 3];
-        for i in 0..b.len() {
-            for k in 0..3 {
-                p[k] += b.mass[i] * b.v[i][k];
+        for (m, v) in b.mass.iter().zip(&b.v) {
+            for (pk, vk) in p.iter_mut().zip(v) {
+                *pk += m * vk;
             }
         }
         p
@@ -888,6 +907,8 @@ pub fn total(bins: &[BinSums]) -> BinSums {
         for k in 0..6 {
             t.momentum_flux[k] += b.momentum_flux[k];
             t.spin_flux[k] += b.spin_flux[k];
+            t.mean_momentum_flux[k] += b.mean_momentum_flux[k];
+            t.mean_spin_flux[k] += b.mean_spin_flux[k];
         }
         for k in 0..9 {
             t.contact_stress[k] += b.contact_stress[k];

@@ -95,6 +95,15 @@ pub struct BinSums {
     pub spin_momentum: [f64; 3],
     /// sum I w_a w_b, in [`SYM`] order
     pub spin_flux: [f64; 6],
+    /// sum over the samples of P_a P_b / M of the bin's instantaneous totals (P = sum m v,
+    /// M = sum m), in [`SYM`] order: with `momentum_flux` it gives the fluctuations about
+    /// the instantaneous bin mean (eqs. 2.3-2.4)
+    #[serde(default)]
+    pub mean_momentum_flux: [f64; 6],
+    /// sum over the samples of S_a S_b / J of the bin's instantaneous totals (S = sum I w,
+    /// J = sum I), in [`SYM`] order
+    #[serde(default)]
+    pub mean_spin_flux: [f64; 6],
     /// sum over the contacts of the bin's particles of F_a r_b / 2 (row-major 3 x 3)
     pub contact_stress: [f64; 9],
     /// sum of -F . v_s over the pair contacts whose midpoint is in the bin
