@@ -576,7 +576,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 .unwrap_or_default();
             outln!(
                 "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {search}{record}",
-                r.workload, r.n, r.phi, r.collisions_per_s, r.events_per_s, r.bytes_per_particle
+                r.workload,
+                r.n,
+                r.phi,
+                r.collisions_per_s,
+                r.events_per_s,
+                r.bytes_per_particle
             );
         }
         results.push(r);

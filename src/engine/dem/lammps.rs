@@ -93,11 +93,7 @@ pub fn data_file(params: &DemParams, states: &[BodyState]) -> String {
     for (k, s) in states.iter().enumerate() {
         let [vx, vy, vz] = s.velocity;
         let [wx, wy, wz] = s.spin;
-        let _ = writeln!(
-            d,
-            "{} {vx:e} {vy:e} {vz:e} {wx:e} {wy:e} {wz:e}",
-            k + 1
-        );
+        let _ = writeln!(d, "{} {vx:e} {vy:e} {vz:e} {wx:e} {wy:e} {wz:e}", k + 1);
     }
     d
 }
@@ -125,10 +121,16 @@ pub fn input_script(params: &DemParams, opts: &ScriptOptions) -> String {
         s,
         "# x: flow and gravity, periodic; y: wall to wall (walls at 0 and W); z: span, periodic"
     );
-    let _ = writeln!(s, "units lj\natom_style sphere\ndimension 3\nboundary p f p");
+    let _ = writeln!(
+        s,
+        "units lj\natom_style sphere\ndimension 3\nboundary p f p"
+    );
     let _ = writeln!(s, "comm_modify vel yes");
     let _ = writeln!(s, "read_data {}", opts.data_file);
-    let _ = writeln!(s, "# the skin; the list is checked every step (granflow: likewise)");
+    let _ = writeln!(
+        s,
+        "# the skin; the list is checked every step (granflow: likewise)"
+    );
     let _ = writeln!(s, "neighbor {:e} bin", p.skin);
     let _ = writeln!(s, "neigh_modify delay 0 every 1 check yes");
     let _ = writeln!(
@@ -262,18 +264,18 @@ impl Columns {
                 need(&["zs", "zsu"])?,
             ]
         } else {
-            [need(&["x", "xu"])?, need(&["y", "yu"])?, need(&["z", "zu"])?]
+            [
+                need(&["x", "xu"])?,
+                need(&["y", "yu"])?,
+                need(&["z", "zu"])?,
+            ]
         };
         Ok(Columns {
             id,
             size,
             position: (position, scaled),
             velocity: [need(&["vx"])?, need(&["vy"])?, need(&["vz"])?],
-            spin: [
-                need(&["omegax"])?,
-                need(&["omegay"])?,
-                need(&["omegaz"])?,
-            ],
+            spin: [need(&["omegax"])?, need(&["omegay"])?, need(&["omegaz"])?],
             count: names.len(),
         })
     }
@@ -287,9 +289,12 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
     let mut lines = text.lines().enumerate().map(|(k, l)| (k + 1, l.trim()));
     let mut frames = Vec::new();
     let mut next = |what: &str, after: usize| {
-        lines
-            .next()
-            .ok_or_else(|| bad(after + 1, format!("the file ends where {what} was expected")))
+        lines.next().ok_or_else(|| {
+            bad(
+                after + 1,
+                format!("the file ends where {what} was expected"),
+            )
+        })
     };
     let mut last = 0;
     loop {
@@ -303,7 +308,10 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
             continue;
         }
         if item != "ITEM: TIMESTEP" {
-            return Err(bad(line, format!("expected `ITEM: TIMESTEP`, found `{item}`")));
+            return Err(bad(
+                line,
+                format!("expected `ITEM: TIMESTEP`, found `{item}`"),
+            ));
         }
         let (line, v) = next("the time step", line)?;
         let timestep: u64 = v
@@ -311,7 +319,10 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
             .map_err(|_| bad(line, format!("time step `{v}` is not a whole number")))?;
         let (line, item) = next("ITEM: NUMBER OF ATOMS", line)?;
         if item != "ITEM: NUMBER OF ATOMS" {
-            return Err(bad(line, format!("expected `ITEM: NUMBER OF ATOMS`, found `{item}`")));
+            return Err(bad(
+                line,
+                format!("expected `ITEM: NUMBER OF ATOMS`, found `{item}`"),
+            ));
         }
         let (line, v) = next("the number of atoms", line)?;
         let n: usize = v
@@ -319,7 +330,10 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
             .map_err(|_| bad(line, format!("number of atoms `{v}` is not a whole number")))?;
         let (mut line, item) = next("ITEM: BOX BOUNDS", line)?;
         if !item.starts_with("ITEM: BOX BOUNDS") {
-            return Err(bad(line, format!("expected `ITEM: BOX BOUNDS`, found `{item}`")));
+            return Err(bad(
+                line,
+                format!("expected `ITEM: BOX BOUNDS`, found `{item}`"),
+            ));
         }
         let mut bounds = [[0.0; 2]; 3];
         for b in &mut bounds {
@@ -332,13 +346,19 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
                 .collect::<Result<_, _>>()
                 .map_err(|_| bad(l, format!("box bounds `{v}` are not two numbers")))?;
             if nums.len() != 2 || !(nums[1] > nums[0]) {
-                return Err(bad(l, format!("box bounds `{v}`: expected lo hi with hi > lo")));
+                return Err(bad(
+                    l,
+                    format!("box bounds `{v}`: expected lo hi with hi > lo"),
+                ));
             }
             *b = [nums[0], nums[1]];
         }
         let (line, item) = next("ITEM: ATOMS", line)?;
         let Some(header) = item.strip_prefix("ITEM: ATOMS") else {
-            return Err(bad(line, format!("expected `ITEM: ATOMS ...`, found `{item}`")));
+            return Err(bad(
+                line,
+                format!("expected `ITEM: ATOMS ...`, found `{item}`"),
+            ));
         };
         let cols = Columns::parse(header, line)?;
         let mut atoms: Vec<(u64, BodyState)> = Vec::with_capacity(n);
@@ -396,7 +416,10 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
         }
         atoms.sort_by_key(|a| a.0);
         if let Some(w) = atoms.windows(2).find(|w| w[0].0 == w[1].0) {
-            return Err(bad(line, format!("atom id {} appears twice in the frame", w[0].0)));
+            return Err(bad(
+                line,
+                format!("atom id {} appears twice in the frame", w[0].0),
+            ));
         }
         last = at;
         frames.push(DumpFrame {
@@ -441,10 +464,18 @@ mod tests {
     fn the_data_file_round_trips_every_bit() {
         let p = DemParams::channel(10.0, 5.0, 12.0, 0.6, 1);
         let s = vec![
-            state(0.9, [0.1 + 1e-17, 3.3333333333333335, 4.9], [1.0 / 3.0, -2e-300, 0.0], [
-                7.0, -1.0 / 7.0, 1e-5,
-            ]),
-            state(1.1, [11.999999999999998, 0.55, 0.0], [0.0; 3], [0.0, 0.0, 3.0]),
+            state(
+                0.9,
+                [0.1 + 1e-17, 3.3333333333333335, 4.9],
+                [1.0 / 3.0, -2e-300, 0.0],
+                [7.0, -1.0 / 7.0, 1e-5],
+            ),
+            state(
+                1.1,
+                [11.999999999999998, 0.55, 0.0],
+                [0.0; 3],
+                [0.0, 0.0, 3.0],
+            ),
         ];
         let text = data_file(&p, &s);
         let atoms: Vec<Vec<f64>> = text
@@ -492,8 +523,13 @@ mod tests {
             p.normal_damping,
             p.tangential_damping()
         );
-        assert!(s.contains(&format!("pair_style gran/hooke/history {law} 5e-1 1\n")), "{s}");
-        assert!(s.contains(&format!("wall/gran hooke/history {law} 5e-1 1 yplane 0 1e1\n")));
+        assert!(
+            s.contains(&format!("pair_style gran/hooke/history {law} 5e-1 1\n")),
+            "{s}"
+        );
+        assert!(s.contains(&format!(
+            "wall/gran hooke/history {law} 5e-1 1 yplane 0 1e1\n"
+        )));
         assert!(s.contains("boundary p f p\n"));
         assert!(s.contains("fix gravity all gravity 1e0 vector 1e0 0e0 0e0\n"));
         assert!(s.contains("timestep 1.2e-4\n"));
