@@ -10,7 +10,7 @@
 //! pairs' histories by tags): the payload depends on the physical state only, never on the
 //! working order, the list or the thread count, and a restored engine continues bitwise.
 
-use super::bodies::{Bodies, BodyState};
+use super::bodies::{BodyState, Bodies};
 use super::contact::{self, ContactLaw};
 use super::domain::Domain;
 use super::forces::{self, Boundaries, Pass, Tally};
@@ -191,15 +191,9 @@ impl DemEngine {
         params
             .validate_box_and_law()
             .map_err(|p| format!("{}: {}", p.key, p.message))?;
-        if states.len() < 2
-            || states.iter().any(|s| {
-                !params
-                    .size_mix
-                    .components()
-                    .iter()
-                    .any(|c| c.0 == s.diameter)
-            })
-        {
+        if states.len() < 2 || states.iter().any(|s| {
+            !params.size_mix.components().iter().any(|c| c.0 == s.diameter)
+        }) {
             return Err(format!(
                 "a state needs at least 2 particles, each of a diameter of the size mix {:?}",
                 params.size_mix.components()
@@ -337,11 +331,7 @@ impl DemEngine {
                 let law = self.params.law(self.params.settle_friction);
                 (law, law, Some(p.floor))
             }
-            Phase::Preparing(p) => (
-                self.params.pair_law(),
-                self.params.wall_law(),
-                Some(p.floor),
-            ),
+            Phase::Preparing(p) => (self.params.pair_law(), self.params.wall_law(), Some(p.floor)),
             Phase::Flowing => (self.params.pair_law(), self.params.wall_law(), None),
         };
         (
@@ -421,8 +411,7 @@ impl DemEngine {
                 };
                 p.last_energy = per_particle;
                 if !p.freezing {
-                    p.freezing =
-                        per_particle < p.compact_threshold || p.steps >= p.compact_max_steps;
+                    p.freezing = per_particle < p.compact_threshold || p.steps >= p.compact_max_steps;
                 } else if per_particle < p.threshold {
                     self.remove_floor()?;
                 }
@@ -646,7 +635,9 @@ impl DemEngine {
             touching += 1.0;
             let [a, c] = self.list.pairs[p];
             let (a, c) = (a as usize, c as usize);
-            let r = self.domain.min_image(sub(b.x[a], b.x[c]));
+            let r = self
+                .domain
+                .min_image(sub(b.x[a], b.x[c]));
             let f = self.list.out[p].force;
             let (ba, bc) = (self.bins.of(b.x[a][1]), self.bins.of(b.x[c][1]));
             for k in 0..3 {
@@ -699,14 +690,16 @@ impl DemEngine {
             e[1] += 0.5 * (0.4 * m * r * r) * dot(b.w[i], b.w[i]);
             let (_, del, touching) = forces::nearer_wall(b.x[i][1], r, bounds.width);
             if touching {
-                e[2] +=
-                    contact::elastic_energy(&bounds.wall_law, r - del[1].abs(), &b.wall_shear[i]);
+                e[2] += contact::elastic_energy(
+                    &bounds.wall_law,
+                    r - del[1].abs(),
+                    &b.wall_shear[i],
+                );
             }
             if let Some(floor) = bounds.floor {
                 let dx = floor - b.x[i][0];
                 if dx * dx <= r * r {
-                    e[2] +=
-                        contact::elastic_energy(&bounds.floor_law, r - dx.abs(), &b.floor_shear[i]);
+                    e[2] += contact::elastic_energy(&bounds.floor_law, r - dx.abs(), &b.floor_shear[i]);
                 }
             }
         }
@@ -726,7 +719,11 @@ impl DemEngine {
     pub fn constants(&self) -> RunConstants {
         let p = &self.params;
         let b = &self.bodies;
-        let volume: f64 = b.radius.iter().map(|r| 4.0 / 3.0 * PI * r * r * r).sum();
+        let volume: f64 = b
+            .radius
+            .iter()
+            .map(|r| 4.0 / 3.0 * PI * r * r * r)
+            .sum();
         RunConstants {
             width: p.width,
             span: p.span,

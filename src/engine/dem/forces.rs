@@ -233,7 +233,11 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
             let b = pairs[p][1] as usize;
             let q = p - base;
             // del = x_a - x_b, minimum image
-            let del = domain.min_image([x[a][0] - x[b][0], x[a][1] - x[b][1], x[a][2] - x[b][2]]);
+            let del = domain.min_image([
+                x[a][0] - x[b][0],
+                x[a][1] - x[b][1],
+                x[a][2] - x[b][2],
+            ]);
             let rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
             let radsum = ra + radius[b];
             if rsq < radsum * radsum {

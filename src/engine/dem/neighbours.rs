@@ -63,11 +63,9 @@ impl Grid {
         for k in 0..3 {
             let periodic = k == 2 || (k == 0 && domain.periodic_x);
             let (lo, hi) = if k == 0 && !domain.periodic_x {
-                positions
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                        (a.min(x[0]), b.max(x[0]))
-                    })
+                positions.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                    (a.min(x[0]), b.max(x[0]))
+                })
             } else {
                 (0.0, domain.extent[k])
             };
@@ -393,8 +391,12 @@ impl NeighbourList {
         }
         self.entries.clear();
         self.entries.resize(n * stride, 0);
-        let (partners, row_len, lower, pair_start) =
-            (&self.partners, &self.row_len, &self.lower, &self.pair_start);
+        let (partners, row_len, lower, pair_start) = (
+            &self.partners,
+            &self.row_len,
+            &self.lower,
+            &self.pair_start,
+        );
         self.entries
             .par_chunks_mut(stride)
             .enumerate()
@@ -555,10 +557,7 @@ mod tests {
                     last = Some(t);
                     if !lower {
                         let p = e as usize;
-                        assert!(
-                            (list.pair_start[i] as usize..list.pair_start[i + 1] as usize)
-                                .contains(&p)
-                        );
+                        assert!((list.pair_start[i] as usize..list.pair_start[i + 1] as usize).contains(&p));
                     }
                 }
             }

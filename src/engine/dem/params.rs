@@ -367,10 +367,7 @@ impl DemParams {
             }
         }
         if self.gravity.iter().any(|g| !g.is_finite()) {
-            return bad(
-                "gravity",
-                format!("gravity = {:?} is not finite", self.gravity),
-            );
+            return bad("gravity", format!("gravity = {:?} is not finite", self.gravity));
         }
         if !(self.skin.is_finite() && self.skin > 0.0 && self.skin <= 1.0) {
             return bad(
