@@ -102,6 +102,7 @@ fn run_lammps(lmp: &Path, dir: &Path) -> Vec<DumpFrame> {
 
 /// The largest differences of positions, velocities and spins between granflow's particles
 /// and a frame's (periodic x and z by the minimum image), and max |v|, max |w| of the frame.
+#[allow(clippy::needless_range_loop)] // k indexes six arrays
 fn difference(p: &DemParams, ours: &[BodyState], theirs: &[BodyState]) -> ([f64; 3], [f64; 2]) {
     assert_eq!(ours.len(), theirs.len());
     let period = [p.length, 0.0, p.span];

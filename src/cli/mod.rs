@@ -1,6 +1,7 @@
 //! The command-line front end: clap arguments and one module per command.
 
 mod bench;
+mod bench_dem;
 mod bench_job;
 mod completions;
 mod engines;

@@ -345,7 +345,7 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
                 .map(str::parse)
                 .collect::<Result<_, _>>()
                 .map_err(|_| bad(l, format!("box bounds `{v}` are not two numbers")))?;
-            if nums.len() != 2 || !(nums[1] > nums[0]) {
+            if nums.len() != 2 || nums.iter().any(|b| !b.is_finite()) || nums[1] <= nums[0] {
                 return Err(bad(
                     l,
                     format!("box bounds `{v}`: expected lo hi with hi > lo"),
