@@ -130,6 +130,7 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
     let n = engine.particle_count();
     let before = engine.counters();
     let start = engine.steps();
+    let stages = engine.stage_times();
     let clock = Instant::now();
     pool.install(|| engine.advance_to_step(start + o.steps))
         .map_err(anyhow::Error::msg)?;
@@ -138,6 +139,18 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
     let steps = (after.steps - before.steps) as f64;
     let particle_steps = n as f64 * steps / secs;
     let contacts = (after.contacts - before.contacts) as f64;
+    let now = engine.stage_times();
+    eprintln!(
+        "{}: {:.2} s timed: pair forces {:.2} s, particle pass (gather, walls, gravity, kicks, \
+         drifts) {:.2} s, list rebuilds {:.2} s ({} rebuilds), samples {:.2} s",
+        w.name,
+        secs,
+        now.pairs - stages.pairs,
+        now.particles - stages.particles,
+        now.rebuilds - stages.rebuilds,
+        after.rebuilds - before.rebuilds,
+        now.samples - stages.samples
+    );
     Ok(BenchResult {
         workload: w.name.to_string(),
         n,
