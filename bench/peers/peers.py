@@ -269,7 +269,7 @@ def main():
     p.add_argument("--source", help="the peer's source tree (edmd)")
     p.add_argument("--lmp", default="/usr/bin/lmp", help="the LAMMPS binary (lammps-dem)")
     p.add_argument("--steps", type=int, default=2000, help="timed steps (lammps-dem)")
-    p.add_argument("--warmup", type=int, default=2000, help="untimed granflow steps before (lammps-dem)")
+    p.add_argument("--warmup", type=int, default=100000, help="granflow flow steps before the timed ones (lammps-dem; the state is cached)")
     p.add_argument("--dem-cache", help="granflow's cache of prepared states (lammps-dem; default target/bench-cache)")
     p.add_argument("--rounds", type=int, default=7)
     p.add_argument("--workload", help="only workloads whose name contains this text")

@@ -83,8 +83,10 @@ pub struct BenchArgs {
     /// DEM workloads: timed steps (after the untimed warm-up)
     #[arg(long, default_value_t = 2000)]
     pub dem_steps: u64,
-    /// DEM workloads: untimed flow steps after the preparation
-    #[arg(long, default_value_t = 2000)]
+    /// DEM workloads: untimed flow steps after the preparation (the state after them is kept
+    /// in the cache: computed once); by 100 000 steps (12 sqrt(d_p/g)) the flow has about one
+    /// contact per particle
+    #[arg(long, default_value_t = 100_000)]
     pub dem_warmup: u64,
     /// DEM workloads: directory of the prepared states (default: $GRANFLOW_BENCH_CACHE, else
     /// ~/.cache/granflow/bench); the preparation runs once per workload

@@ -1,8 +1,8 @@
 //! `granflow bench` DEM workloads: dense channels at phi-bar = 0.6 with the paper's law
 //! (Debnath, Rao & Kumaran 2022: k_n = 1e6, k_t = 2/7 k_n, e_n = 0.82, xi_t = xi_n / 2,
 //! mu = 0.5, the 0.9/1.0/1.1 mix, Delta t = 1.2e-4, skin 0.1 d_p), prepared as a job is
-//! (rained, settled, floor removed; the prepared state is kept in a cache directory, since the
-//! preparation takes minutes), warmed up untimed, then timed: particle-steps per second
+//! (rained, settled, floor removed) and warmed up by a flow (both states kept in a cache
+//! directory, since they take minutes), then timed: particle-steps per second
 //! (N times steps over wall seconds), on the threads of the pool (`--threads`, default 1).
 //! `--lammps-out DIR` also writes the warmed state as a LAMMPS data file and input
 //! (`bench/peers/peers.py lammps-dem` times LAMMPS on it).
@@ -62,9 +62,11 @@ pub fn default_cache() -> PathBuf {
     base.join("granflow").join("bench")
 }
 
-/// The prepared engine of a workload: from the cache when there (it holds the parameters:
-/// a cached state of other parameters is not used), else prepared and cached.
-fn prepared(w: &DemWorkload, cache: &Path) -> anyhow::Result<DemEngine> {
+/// The engine of a workload after its preparation and `warmup` flow steps: from the cache
+/// when there (each file holds the parameters and the step: one of other parameters is not
+/// used), else computed (from the cached prepared state when there) and cached, both the
+/// prepared and the warmed state.
+fn warmed(w: &DemWorkload, cache: &Path, warmup: u64) -> anyhow::Result<DemEngine> {
     let key = {
         use sha2::{Digest, Sha256};
         let text = format!("{:?}", w.params);
@@ -74,32 +76,53 @@ fn prepared(w: &DemWorkload, cache: &Path) -> anyhow::Result<DemEngine> {
             .map(|b| format!("{b:02x}"))
             .collect::<String>()
     };
-    let path = cache.join(format!("{}-{key}.dem", w.name));
-    if let Ok(bytes) = std::fs::read(&path)
-        && let Ok(e) = DemEngine::from_payload(&bytes)
-        && e.params() == &w.params
-        && e.steps() == 0
-    {
+    let load = |path: &Path, step: u64| {
+        std::fs::read(path)
+            .ok()
+            .and_then(|bytes| DemEngine::from_payload(&bytes).ok())
+            .filter(|e| e.params() == &w.params && e.steps() == step)
+    };
+    let save = |path: &Path, e: &DemEngine| -> anyhow::Result<()> {
+        std::fs::create_dir_all(cache)
+            .with_context(|| format!("{}: cannot create", cache.display()))?;
+        std::fs::write(path, e.to_payload())
+            .with_context(|| format!("{}: cannot write", path.display()))
+    };
+    let warm_path = cache.join(format!("{}-{key}-flow{warmup}.dem", w.name));
+    if let Some(e) = load(&warm_path, warmup) {
         return Ok(e);
     }
-    eprintln!(
-        "{}: preparing N = {} (raining and settling; once, kept in {})",
-        w.name,
-        w.params.particle_count(),
-        path.display()
-    );
-    let clock = Instant::now();
-    let e = DemEngine::new(w.params.clone()).map_err(anyhow::Error::msg)?;
-    eprintln!(
-        "{}: prepared in {:.0} s ({} steps)",
-        w.name,
-        clock.elapsed().as_secs_f64(),
-        e.counters().prep_steps
-    );
-    std::fs::create_dir_all(cache)
-        .with_context(|| format!("{}: cannot create", cache.display()))?;
-    std::fs::write(&path, e.to_payload())
-        .with_context(|| format!("{}: cannot write", path.display()))?;
+    let path = cache.join(format!("{}-{key}.dem", w.name));
+    let mut e = match load(&path, 0) {
+        Some(e) => e,
+        None => {
+            eprintln!(
+                "{}: preparing N = {} (raining and settling; once, kept in {})",
+                w.name,
+                w.params.particle_count(),
+                path.display()
+            );
+            let clock = Instant::now();
+            let e = DemEngine::new(w.params.clone()).map_err(anyhow::Error::msg)?;
+            eprintln!(
+                "{}: prepared in {:.0} s ({} steps)",
+                w.name,
+                clock.elapsed().as_secs_f64(),
+                e.counters().prep_steps
+            );
+            save(&path, &e)?;
+            e
+        }
+    };
+    if warmup > 0 {
+        eprintln!(
+            "{}: {warmup} warm-up steps (once, kept in {})",
+            w.name,
+            warm_path.display()
+        );
+        e.advance_to_step(warmup).map_err(anyhow::Error::msg)?;
+        save(&warm_path, &e)?;
+    }
     Ok(e)
 }
 
@@ -109,9 +132,7 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
         .num_threads(o.threads)
         .build()?;
     let baseline = memory_baseline();
-    let mut engine = pool.install(|| prepared(w, &o.cache))?;
-    pool.install(|| engine.advance_to_step(o.warmup))
-        .map_err(anyhow::Error::msg)?;
+    let mut engine = pool.install(|| warmed(w, &o.cache, o.warmup))?;
     if let Some(dir) = &o.lammps_out {
         // LAMMPS starts without contact histories: so does the run timed here
         let mut states = engine.states();
