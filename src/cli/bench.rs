@@ -9,7 +9,8 @@
 //! flights; also their `events_per_s`); their `collisions_per_s` are accepted collisions and
 //! their `phi` is null (a DSMC gas has no volume fraction).
 //! The DEM workloads (dense channels of about 4000 and 40 000 particles at phi-bar = 0.6 with
-//! the paper's law, [`super::bench_dem`]) add `particle_steps_per_s` (N times timed steps over
+//! the paper's law, [`super::bench_dem`]; run only when `--workload` names them, e.g.
+//! `--workload dem`, since their first run prepares the channel for many minutes) add `particle_steps_per_s` (N times timed steps over
 //! wall seconds; also their `events_per_s`), `contacts_per_particle` (pair contacts per
 //! particle and step) and `threads`; their `collisions_per_s` are pair contacts evaluated
 //! per second.
@@ -577,9 +578,11 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         .into_iter()
         .filter(|w| wanted(w.name))
         .collect();
+    // the DEM workloads only when named (their first run prepares and warms a channel for
+    // many minutes): `--workload dem`
     let dem: Vec<DemWorkload> = bench_dem::workloads()
         .into_iter()
-        .filter(|w| wanted(w.name))
+        .filter(|w| args.workload.is_some() && wanted(w.name))
         .collect();
     anyhow::ensure!(
         !selected.is_empty() || !lattice.is_empty() || !dsmc.is_empty() || !dem.is_empty(),
