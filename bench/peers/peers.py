@@ -5,6 +5,7 @@ of a noisy machine. Nothing is downloaded: each peer is built from a source tree
 give, with the documented edits below applied to a copy (the tree itself is not touched).
 
     python3 bench/peers/peers.py edmd --source PATH/TO/FSmallenburg-EDMD [--rounds 7]
+    python3 bench/peers/peers.py lammps-dem [--lmp /usr/bin/lmp] [--rounds 5] [--workload 4k]
 
 Each prints one table row per workload: the peer's and granflow's rate (median and range over
 the rounds), the median of the per-round ratios granflow / peer, and in how many rounds granflow
@@ -158,10 +159,118 @@ def edmd(args, results):
             summary(f"{name} ({variant})", "collisions/s", peer, ours, results)
 
 
+# ---------------------------------------------------------------------------------------------
+# LAMMPS (Debian's `lmp`, GRANULAR package): the DEM channel, same particles, same law.
+
+
+def timed_child(cmd, cwd=None, env=None):
+    """Run a command to its end; (stdout, peak resident bytes of that child). The peak comes
+    from wait4's rusage of this one child (ru_maxrss, in KiB on Linux)."""
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        p = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=out, stderr=err)
+        _, status, usage = os.wait4(p.pid, 0)
+        p.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        stdout, stderr = out.read().decode(), err.read().decode()
+    if p.returncode != 0:
+        sys.exit(f"{' '.join(map(str, cmd))} failed ({p.returncode}):\n{stdout}\n{stderr}")
+    return stdout, usage.ru_maxrss * 1024
+
+
+def one_core_env():
+    env = dict(os.environ)
+    env["OMP_NUM_THREADS"] = "1"
+    return env
+
+
+def granflow_dem(binary, workload, threads, steps, warmup, cache, extra=()):
+    """One `granflow bench --json` DEM run: (particle-steps/s, peak RSS bytes, N, contacts per
+    particle)."""
+    cmd = [binary, "bench", "--json", "--workload", workload, "--threads", str(threads),
+           "--dem-steps", str(steps), "--dem-warmup", str(warmup), "--dem-cache", cache, *extra]
+    text, rss = timed_child(cmd, env=one_core_env() if threads == 1 else None)
+    rows = [r for r in json.loads(text) if r["workload"] == workload]
+    if len(rows) != 1:
+        sys.exit(f"granflow bench: workload {workload} not found in {text}")
+    r = rows[0]
+    return r["particle_steps_per_s"], rss, r["n"], r.get("contacts_per_particle")
+
+
+def lammps_dem_rate(lmp, directory):
+    """One serial LAMMPS run of in.dem: (particle-steps/s from its `Loop time`, peak RSS)."""
+    log = Path(directory) / "log.lammps"
+    _, rss = timed_child([lmp, "-in", "in.dem", "-log", str(log), "-screen", "none", "-nocite"],
+                         cwd=directory, env=one_core_env())
+    text = log.read_text()
+    m = re.search(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", text)
+    if not m:
+        sys.exit(f"{log}: no `Loop time` line")
+    secs, procs, steps, atoms = float(m.group(1)), int(m.group(2)), int(m.group(3)), int(m.group(4))
+    if procs != 1:
+        sys.exit(f"{log}: LAMMPS ran on {procs} processes, not 1")
+    return atoms * steps / secs, rss, atoms
+
+
+# granflow's DEM workloads (`granflow bench`): dense channels at phi-bar 0.6, the paper's law
+LAMMPS_DEM_WORKLOADS = ["dem-channel-4k-phi0.60", "dem-channel-40k-phi0.60"]
+
+
+def lammps_dem(args, results):
+    if not Path(args.lmp).exists():
+        sys.exit(f"{args.lmp}: no LAMMPS binary (Debian: apt-get install lammps; or --lmp PATH)")
+    chosen = [w for w in LAMMPS_DEM_WORKLOADS if not args.workload or args.workload in w]
+    cache = args.dem_cache or str(ROOT / "target" / "bench-cache")
+    with tempfile.TemporaryDirectory() as work:
+        print("| workload | LAMMPS particle-steps/s (median, range) | granflow 1 thread | granflow / LAMMPS | rounds ahead |")
+        print("|---|---|---|---|---|")
+        scaling = []
+        for name in chosen:
+            directory = Path(work) / name
+            # the warmed state, written once by granflow (prepared and cached on first use)
+            granflow_dem(args.granflow, name, 1, args.steps, args.warmup, cache,
+                         ["--lammps-out", str(directory)])
+            peer, ours, ours2, rss = [], [], [], {"lammps": [], "granflow-1": [], "granflow-2": []}
+            n = None
+            for r in range(args.rounds):
+                g1, m1, n, contacts = granflow_dem(args.granflow, name, 1, args.steps, args.warmup, cache)
+                l1, ml, atoms = lammps_dem_rate(args.lmp, directory)
+                g2, m2, _, _ = granflow_dem(args.granflow, name, 2, args.steps, args.warmup, cache)
+                if atoms != n:
+                    sys.exit(f"{name}: LAMMPS has {atoms} atoms, granflow {n}")
+                ours.append(g1)
+                peer.append(l1)
+                ours2.append(g2)
+                rss["granflow-1"].append(m1)
+                rss["lammps"].append(ml)
+                rss["granflow-2"].append(m2)
+                print(f"  round {r + 1}: LAMMPS {l1:.4g}, granflow 1 thread {g1:.4g}, 2 threads {g2:.4g} "
+                      f"particle-steps/s ({contacts:.2f} contacts per particle)", file=sys.stderr, flush=True)
+            summary(f"{name} (N = {n}, {args.steps} steps)", "particle-steps/s", peer, ours, results)
+            ratios = [b / a for a, b in zip(ours, ours2)]
+            per_particle = {k: statistics.median(v) / n for k, v in rss.items()}
+            scaling.append((name, ours, ours2, ratios, per_particle))
+            results[-1]["granflow_2_threads"] = ours2
+            results[-1]["thread_scaling"] = ratios
+            results[-1]["peak_rss_bytes_per_particle"] = per_particle
+        print()
+        print("| workload | granflow 1 thread | 2 threads | 2 / 1 threads (median, range) | peak RSS / N: LAMMPS, granflow 1, 2 threads |")
+        print("|---|---|---|---|---|")
+        m = lambda v: f"{v / 1e6:.3g} M"
+        for name, one, two, ratios, mem in scaling:
+            print(f"| {name} | {m(statistics.median(one))} | {m(statistics.median(two))} "
+                  f"| **{statistics.median(ratios):.2f}** ({min(ratios):.2f}-{max(ratios):.2f}) "
+                  f"| {mem['lammps']:.0f}, {mem['granflow-1']:.0f}, {mem['granflow-2']:.0f} bytes |")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("peer", choices=["edmd"])
+    p.add_argument("peer", choices=["edmd", "lammps-dem"])
     p.add_argument("--source", help="the peer's source tree (edmd)")
+    p.add_argument("--lmp", default="/usr/bin/lmp", help="the LAMMPS binary (lammps-dem)")
+    p.add_argument("--steps", type=int, default=2000, help="timed steps (lammps-dem)")
+    p.add_argument("--warmup", type=int, default=100000, help="granflow flow steps before the timed ones (lammps-dem; the state is cached)")
+    p.add_argument("--dem-cache", help="granflow's cache of prepared states (lammps-dem; default target/bench-cache)")
     p.add_argument("--rounds", type=int, default=7)
     p.add_argument("--workload", help="only workloads whose name contains this text")
     p.add_argument("--granflow", default=str(ROOT / "target/release/granflow"))
@@ -170,9 +279,12 @@ def main():
     if not Path(args.granflow).exists():
         sys.exit(f"{args.granflow}: not built (cargo build --release)")
     results = []
-    if not args.source:
-        sys.exit("edmd: give --source PATH (a checkout of https://github.com/FSmallenburg/EDMD)")
-    edmd(args, results)
+    if args.peer == "lammps-dem":
+        lammps_dem(args, results)
+    else:
+        if not args.source:
+            sys.exit("edmd: give --source PATH (a checkout of https://github.com/FSmallenburg/EDMD)")
+        edmd(args, results)
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=1))
 

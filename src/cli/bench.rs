@@ -8,10 +8,17 @@
 //! dt = 0.1 mean collision times, e_n = 1, thermal walls) add `moves_per_s` (simulator
 //! flights; also their `events_per_s`); their `collisions_per_s` are accepted collisions and
 //! their `phi` is null (a DSMC gas has no volume fraction).
+//! The DEM workloads (dense channels of about 4000 and 40 000 particles at phi-bar = 0.6 with
+//! the paper's law, [`super::bench_dem`]; run only when `--workload` names them, e.g.
+//! `--workload dem`, since their first run prepares the channel for many minutes) add `particle_steps_per_s` (N times timed steps over
+//! wall seconds; also their `events_per_s`), `contacts_per_particle` (pair contacts per
+//! particle and step) and `threads`; their `collisions_per_s` are pair contacts evaluated
+//! per second.
 //! `bytes_per_particle` is what a particle really costs: the growth of the process's peak
 //! resident memory over the workload (set-up and snapshots included), over N (Linux; elsewhere
 //! the engine's own count of its data structures).
 
+use super::bench_dem::{self, DemBenchOptions, DemWorkload};
 use super::out::outln;
 use crate::engine::dsmc::{DsmcEngine, DsmcParams};
 use crate::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement, SearchPolicy};
@@ -25,6 +32,7 @@ use std::time::Instant;
 #[command(after_help = "Examples:
   granflow bench                              # every standard workload, as a table
   granflow bench --workload channel --json    # the workloads named *channel*, as JSON
+  granflow bench --workload dem-channel-4k --threads 2   # the dense DEM channel on 2 threads
   granflow bench --from-job results/thesis-fig5-25/jobs/492eb82c0804cd46 --search cells")]
 pub struct BenchArgs {
     /// print a JSON array instead of a table
@@ -70,6 +78,26 @@ pub struct BenchArgs {
     /// r_max = 8 d) at every snapshot, and free paths tallied throughout
     #[arg(long)]
     pub statistics: bool,
+    /// DEM workloads: threads to run on (the other workloads use one)
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// DEM workloads: timed steps (after the untimed warm-up)
+    #[arg(long, default_value_t = 2000)]
+    pub dem_steps: u64,
+    /// DEM workloads: untimed flow steps after the preparation (the state after them is kept
+    /// in the cache: computed once); by 100 000 steps (12 sqrt(d_p/g)) the flow has about one
+    /// contact per particle
+    #[arg(long, default_value_t = 100_000)]
+    pub dem_warmup: u64,
+    /// DEM workloads: directory of the prepared states (default: $GRANFLOW_BENCH_CACHE, else
+    /// ~/.cache/granflow/bench); the preparation runs once per workload
+    #[arg(long, value_name = "DIR")]
+    pub dem_cache: Option<std::path::PathBuf>,
+    /// DEM workloads: also write the warmed state as LAMMPS input (data.dem, in.dem running the
+    /// timed steps) into this directory; the timed run then starts, as LAMMPS does, without
+    /// contact histories (one workload only)
+    #[arg(long, value_name = "DIR")]
+    pub lammps_out: Option<std::path::PathBuf>,
 }
 
 /// The neighbour search a benchmark uses.
@@ -120,6 +148,15 @@ pub struct BenchResult {
     /// statistics included with --statistics), inside the timed stretch
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub record_seconds: Option<f64>,
+    /// DEM only: particle-steps per second (N x steps / wall seconds)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub particle_steps_per_s: Option<f64>,
+    /// DEM only: pair contacts per particle and step in the timed stretch
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contacts_per_particle: Option<f64>,
+    /// DEM only: the threads it ran on
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threads: Option<usize>,
 }
 
 /// A number written as null (NaN in JSON) read back as NaN.
@@ -188,6 +225,9 @@ fn measure_dsmc(w: &DsmcWorkload, moves: f64) -> anyhow::Result<BenchResult> {
         site_updates_per_s: None,
         moves_per_s: Some(moves_per_s),
         record_seconds: None,
+        particle_steps_per_s: None,
+        contacts_per_particle: None,
+        threads: None,
     })
 }
 
@@ -247,6 +287,9 @@ fn measure_lga(w: &LgaWorkload, site_updates: f64) -> anyhow::Result<BenchResult
         site_updates_per_s: Some(updates),
         moves_per_s: None,
         record_seconds: None,
+        particle_steps_per_s: None,
+        contacts_per_particle: None,
+        threads: None,
     })
 }
 
@@ -326,7 +369,7 @@ fn thesis_dense_channel() -> EdmdParams {
 
 /// Run one workload: untimed set-up and warm-up, then the timed stretch.
 /// Resident memory of the process, and its peak, in bytes (Linux; None elsewhere).
-fn resident() -> Option<(f64, f64)> {
+pub(super) fn resident() -> Option<(f64, f64)> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let kb = |key: &str| {
         status
@@ -341,7 +384,7 @@ fn resident() -> Option<(f64, f64)> {
 
 /// Start measuring what a workload costs in memory: reset the peak-RSS mark (Linux) and
 /// return the resident size now.
-fn memory_baseline() -> Option<f64> {
+pub(super) fn memory_baseline() -> Option<f64> {
     // give memory freed by an earlier workload back to the system first, so that this one's
     // allocations raise the peak instead of reusing it
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
@@ -357,7 +400,7 @@ fn memory_baseline() -> Option<f64> {
 /// Bytes per particle that a workload really cost: the growth of the process's peak resident
 /// memory from `baseline` (set-up, warm-up, snapshots and all), over N; `fallback` where the
 /// system cannot tell.
-fn bytes_per_particle(baseline: Option<f64>, n: usize, fallback: f64) -> f64 {
+pub(super) fn bytes_per_particle(baseline: Option<f64>, n: usize, fallback: f64) -> f64 {
     match (baseline, resident()) {
         (Some(b), Some((_, peak))) if peak > b => (peak - b) / n.max(1) as f64,
         _ => fallback,
@@ -409,6 +452,9 @@ fn measure(w: &Workload, search: SearchPolicy, args: &BenchArgs) -> anyhow::Resu
         site_updates_per_s: None,
         moves_per_s: None,
         record_seconds: (args.snapshots > 0).then(|| recording / args.snapshots as f64),
+        particle_steps_per_s: None,
+        contacts_per_particle: None,
+        threads: None,
     })
 }
 
@@ -433,8 +479,8 @@ fn snapshot_analyser(args: &BenchArgs) -> anyhow::Result<crate::analysis::Analys
     })
 }
 
-/// CPU model and core count, from /proc/cpuinfo where available.
-fn machine() -> String {
+/// CPU model and core count, from /proc/cpuinfo where available, and the threads used.
+fn machine(threads: usize) -> String {
     let model = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|text| {
@@ -445,7 +491,7 @@ fn machine() -> String {
         })
         .unwrap_or_else(|| std::env::consts::ARCH.to_string());
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    format!("{model}, {cores} cores available, 1 used")
+    format!("{model}, {cores} cores available, {threads} used")
 }
 
 /// Measure one workload in a process of its own (a fresh heap: its memory and speed do not
@@ -469,6 +515,10 @@ fn measure_isolated(name: &str, args: &BenchArgs) -> anyhow::Result<BenchResult>
         .args(["--snapshots", &args.snapshots.to_string()])
         .args(args.free_paths.then_some("--free-paths"))
         .args(args.statistics.then_some("--statistics"))
+        .args(["--threads", &args.threads.to_string()])
+        .args(["--dem-steps", &args.dem_steps.to_string()])
+        .args(["--dem-warmup", &args.dem_warmup.to_string()])
+        .args(["--dem-cache".as_ref(), dem_cache(args).as_os_str()])
         .stderr(std::process::Stdio::null())
         .output()?;
     anyhow::ensure!(
@@ -479,6 +529,13 @@ fn measure_isolated(name: &str, args: &BenchArgs) -> anyhow::Result<BenchResult>
     let mut rows: Vec<BenchResult> = serde_json::from_slice(&out.stdout)?;
     anyhow::ensure!(rows.len() == 1, "{name}: expected one result");
     Ok(rows.remove(0))
+}
+
+/// The DEM workloads' cache directory.
+fn dem_cache(args: &BenchArgs) -> std::path::PathBuf {
+    args.dem_cache
+        .clone()
+        .unwrap_or_else(bench_dem::default_cache)
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
@@ -521,8 +578,14 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         .into_iter()
         .filter(|w| wanted(w.name))
         .collect();
+    // the DEM workloads only when named (their first run prepares and warms a channel for
+    // many minutes): `--workload dem`
+    let dem: Vec<DemWorkload> = bench_dem::workloads()
+        .into_iter()
+        .filter(|w| args.workload.is_some() && wanted(w.name))
+        .collect();
     anyhow::ensure!(
-        !selected.is_empty() || !lattice.is_empty() || !dsmc.is_empty(),
+        !selected.is_empty() || !lattice.is_empty() || !dsmc.is_empty() || !dem.is_empty(),
         "no workload matches {:?}; workloads: {}",
         args.workload.as_deref().unwrap_or(""),
         workloads(&args)
@@ -530,11 +593,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             .map(|w| w.name)
             .chain(lga_workloads().iter().map(|w| w.name))
             .chain(dsmc_workloads().iter().map(|w| w.name))
+            .chain(bench_dem::workloads().iter().map(|w| w.name))
             .collect::<Vec<_>>()
             .join(", ")
     );
     anyhow::ensure!(args.site_updates > 0.0, "--site-updates must be > 0");
-    let machine = machine();
+    // only the DEM workloads run on more than one thread
+    let machine = machine(if dem.is_empty() { 1 } else { args.threads });
     if args.json {
         eprintln!("machine: {machine}");
     } else {
@@ -551,7 +616,18 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     }
     // several workloads: each in a process of its own
     anyhow::ensure!(args.moves > 0.0, "--moves must be > 0");
-    let isolate = selected.len() + lattice.len() + dsmc.len() > 1;
+    anyhow::ensure!(args.threads >= 1, "--threads must be >= 1");
+    anyhow::ensure!(args.dem_steps >= 1, "--dem-steps must be >= 1");
+    let isolate = selected.len() + lattice.len() + dsmc.len() + dem.len() > 1;
+    anyhow::ensure!(
+        args.lammps_out.is_none() || (dem.len() == 1 && !isolate),
+        "--lammps-out writes one DEM workload: choose one with --workload (DEM workloads: {})",
+        bench_dem::workloads()
+            .iter()
+            .map(|w| w.name)
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     let mut results = Vec::new();
     for w in &selected {
         let search = args.search_for(&w.params);
@@ -622,6 +698,36 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 r.events_per_s,
                 r.bytes_per_particle,
                 r.moves_per_s.unwrap_or(f64::NAN)
+            );
+        }
+        results.push(r);
+    }
+    for w in &dem {
+        let r = if isolate {
+            measure_isolated(w.name, &args)?
+        } else {
+            let options = DemBenchOptions {
+                warmup: args.dem_warmup,
+                steps: args.dem_steps,
+                threads: args.threads,
+                cache: dem_cache(&args),
+                lammps_out: args.lammps_out.clone(),
+            };
+            bench_dem::measure(w, &options)?
+        };
+        if !args.json {
+            outln!(
+                "{:<28} {:>7} {:>6.3} {:>14.4e} {:>14.4e} {:>10.0}  {:.4e} particle-steps/s on {} \
+                 thread(s), {:.2} contacts per particle",
+                r.workload,
+                r.n,
+                r.phi,
+                r.collisions_per_s,
+                r.events_per_s,
+                r.bytes_per_particle,
+                r.particle_steps_per_s.unwrap_or(f64::NAN),
+                r.threads.unwrap_or(1),
+                r.contacts_per_particle.unwrap_or(f64::NAN)
             );
         }
         results.push(r);

@@ -70,5 +70,8 @@ pub fn measure(
         site_updates_per_s: None,
         moves_per_s: None,
         record_seconds: None,
+        particle_steps_per_s: None,
+        contacts_per_particle: None,
+        threads: None,
     })
 }

@@ -1,11 +1,13 @@
 //! The command-line front end: clap arguments and one module per command.
 
 mod bench;
+mod bench_dem;
 mod bench_job;
 mod completions;
 mod engines;
 mod figure_size;
 mod gather;
+mod lammps;
 mod out;
 mod params;
 mod phase_diagram;
@@ -50,6 +52,8 @@ pub enum Command {
     PhaseDiagram(phase_diagram::PhaseDiagramArgs),
     /// Plot a column of the jobs table over a swept parameter, one curve per value of another.
     Plot(plot::PlotArgs),
+    /// Write a DEM job of a sweep as LAMMPS input (data file + script) from its prepared state.
+    Lammps(lammps::LammpsArgs),
     /// Write one self-contained HTML report of a sweep (diagram, jobs, figures); also while it
     /// runs.
     Report(report::ReportArgs),
@@ -88,6 +92,7 @@ pub fn main() -> ExitCode {
         Command::PhaseDiagram(args) => phase_diagram::run(args),
         Command::Plot(args) => plot::run(args),
         Command::Report(args) => report::run(args),
+        Command::Lammps(args) => lammps::run(args),
         Command::Slurm(args) => slurm::run(args),
         Command::Completions(args) => completions::run(args),
     };

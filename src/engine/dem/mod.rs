@@ -30,7 +30,8 @@
 //! [`domain`] (periodicity), [`neighbours`] (cell list, neighbour list, histories across
 //! rebuilds), [`forces`] (the parallel pair and particle passes, velocity Verlet),
 //! [`prepare`] (the lattice and the settling), [`sampling`] (bins and interval sums),
-//! [`engine`] (the step loop, snapshots, checkpoints), [`reference`] (all pairs, one thread:
+//! [`engine`] (the step loop, snapshots, checkpoints), [`lammps`] (LAMMPS data, input and
+//! dump files), [`reference`] (all pairs, one thread:
 //! what the tests hold the engine to, bit for bit), `declaration` (the registry's view).
 //!
 //! **Determinism.** Each pair is evaluated once, by its owner (its lower tag), into its slot;
@@ -45,6 +46,7 @@ mod declaration;
 pub mod domain;
 pub mod engine;
 pub mod forces;
+pub mod lammps;
 pub mod neighbours;
 pub mod params;
 pub mod prepare;
