@@ -755,3 +755,17 @@ fn results_of_older_layouts_keep_their_checksums() {
     let err = store::read_result(&jd).unwrap_err();
     assert!(format!("{err:#}").contains("checksum mismatch"), "{err:#}");
 }
+
+/// Parameters read back from JSON to the same bits, 17 significant digits included (a DEM
+/// default time step 1.2e-4 sqrt(1e6 / 1e5) is such a value; without exact parsing its job
+/// was reported damaged).
+#[test]
+fn seventeen_digit_values_read_back_bit_for_bit() {
+    let mut x = 1.2e-4 * (1e6f64 / 1e5).sqrt();
+    for _ in 0..2000 {
+        let text = serde_json::to_string(&x).unwrap();
+        let back: f64 = serde_json::from_str(&text).unwrap();
+        assert_eq!(back.to_bits(), x.to_bits(), "{text}");
+        x = x * 1.000_000_7 + 3.1e-19;
+    }
+}
