@@ -845,9 +845,9 @@ pub fn title(sweep: &super::Sweep, axes: &[&str]) -> Vec<String> {
 pub fn marker_colour(label: &str) -> RGBColor {
     match label {
         "plug" | "steady" => RGBColor(31, 119, 180),
-        "s-wave" | "density waves" | "minimum" => RGBColor(214, 39, 40),
+        "s-wave" | "density waves" | "minimum" | "accelerating" => RGBColor(214, 39, 40),
         "slug" | "s-wave+slug" => RGBColor(44, 160, 44),
-        "wavy-slug" | "mixed" | "maximum" => RGBColor(255, 127, 14),
+        "wavy-slug" | "mixed" | "maximum" | "jammed" => RGBColor(255, 127, 14),
         "homogeneous" | "not-steady" | "no waves" | "monotonic" => RGBColor(120, 120, 120),
         _ => RGBColor(148, 103, 189),
     }
