@@ -301,6 +301,18 @@ pub struct RatioDef {
 /// A built or restored engine.
 pub type BuiltEngine = Result<Box<dyn Engine>, EngineError>;
 
+/// Refuse a checkpoint payload of another layout version than the one this build reads
+/// (`what`: the engine as a reader names it, e.g. "DSMC").
+pub fn check_payload_version(what: &str, version: u32, reads: u32) -> Result<(), EngineError> {
+    if version == reads {
+        Ok(())
+    } else {
+        Err(EngineError::Checkpoint(format!(
+            "{what} payload version {version}, this granflow reads version {reads}"
+        )))
+    }
+}
+
 /// Everything the rest of granflow needs to know about an engine, declared once.
 pub struct EngineDef {
     /// the name in sweep files (`engine: "edmd"`) and checkpoints (at most 7 letters/digits)

@@ -332,11 +332,7 @@ fn build(values: &Values, seed: u64) -> BuiltEngine {
 }
 
 fn restore(version: u32, payload: &[u8]) -> BuiltEngine {
-    if version != PAYLOAD_VERSION {
-        return Err(EngineError::Checkpoint(format!(
-            "DSMC payload version {version}, this granflow reads version {PAYLOAD_VERSION}"
-        )));
-    }
+    crate::engine::declare::check_payload_version("DSMC", version, PAYLOAD_VERSION)?;
     let engine = DsmcEngine::from_payload(payload).map_err(EngineError::Checkpoint)?;
     Ok(Box::new(engine))
 }
