@@ -51,22 +51,10 @@ impl SweepEstimate {
     /// Wall seconds on `threads` threads: the remaining jobs, longest first, each to the
     /// thread that frees first (the runner's order).
     pub fn wall_seconds(&self, threads: usize) -> f64 {
-        let mut secs: Vec<f64> = self
-            .jobs
-            .iter()
-            .map(|j| j.seconds)
-            .filter(|s| *s > 0.0)
-            .collect();
-        secs.sort_by(|a, b| b.total_cmp(a));
-        let mut free = vec![0.0f64; threads.max(1)];
-        for s in secs {
-            let first = free
-                .iter_mut()
-                .min_by(|a, b| a.total_cmp(b))
-                .expect("at least one thread");
-            *first += s;
-        }
-        free.into_iter().fold(0.0, f64::max)
+        super::eta::longest_first_wall_seconds(
+            self.jobs.iter().map(|j| j.seconds).collect(),
+            threads,
+        )
     }
 }
 
@@ -217,32 +205,6 @@ pub fn estimate(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn with_seconds(s: &[f64]) -> SweepEstimate {
-        SweepEstimate {
-            jobs: s
-                .iter()
-                .map(|&seconds| JobEstimate {
-                    remaining: seconds,
-                    least: seconds,
-                    most: seconds,
-                    seconds,
-                })
-                .collect(),
-            rate: 1.0,
-            rate_basis: String::new(),
-        }
-    }
-
-    #[test]
-    fn wall_time_schedules_the_longest_job_first() {
-        // 2 threads: 5 | 4 + 1 ... longest first gives 5+? -> [5, 4] then 3 -> [5, 7], 2 -> [7, 7]
-        let e = with_seconds(&[3.0, 5.0, 2.0, 4.0]);
-        assert_eq!(e.wall_seconds(2), 7.0);
-        assert_eq!(e.wall_seconds(1), 14.0);
-        // one job longer than all others together sets the wall time
-        assert_eq!(with_seconds(&[10.0, 1.0, 1.0]).wall_seconds(2), 10.0);
-    }
 
     #[test]
     fn the_median_skips_what_is_not_finite() {

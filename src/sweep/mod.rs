@@ -14,6 +14,7 @@
 
 pub mod curves;
 pub mod estimate;
+pub mod eta;
 pub mod execute;
 pub mod fs_error;
 pub mod grid;

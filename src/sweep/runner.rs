@@ -2,6 +2,7 @@
 //! work first), shows one progress line for the sweep and one per running job, and hands every
 //! outcome to a single writer thread over a crossbeam channel.
 
+use super::eta::SweepEta;
 use super::execute::{self, JobEnd};
 use super::grid::PlannedJob;
 use super::store::{self, Claim, JobResult, JobState, NotClaimed};
@@ -167,9 +168,13 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         }
     };
     let total_work: f64 = todo.iter().map(|j| j.params.estimated_work()).sum();
+    let eta = SweepEta::new(
+        todo.iter().map(|j| j.params.estimated_work()).collect(),
+        opts.threads.max(1),
+    );
     let overall = multi.add(ProgressBar::new(total_work.max(1.0) as u64));
     overall.set_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {msg} ETA {eta}")
+        ProgressStyle::with_template("{prefix} [{bar:30}] {msg}")
             .expect("valid template")
             .progress_chars("=> "),
     );
@@ -187,12 +192,8 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     let last_sweep_line = Mutex::new(std::time::Instant::now());
     let sweep_line = |done: usize| {
         let fraction = overall.position() as f64 / overall.length().unwrap_or(1).max(1) as f64;
-        let eta = if fraction > 0.0 && fraction < 1.0 {
-            let eta = overall.eta().as_secs();
-            format!(
-                ", ETA {}",
-                humantime::format_duration(std::time::Duration::from_secs(eta))
-            )
+        let eta = if fraction < 1.0 {
+            eta.text()
         } else {
             String::new()
         };
@@ -341,6 +342,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                                     "busy    {} [{}]: held by another runner",
                                     job.id, job.index
                                 ));
+                                eta.end(i);
                                 continue;
                             }
                             Ok(Err(NotClaimed::Damaged(reason))) => {
@@ -348,14 +350,19 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                                     "damaged {} [{}]: {reason} (rerun with --retry-failed)",
                                     job.id, job.index
                                 ));
+                                eta.end(i);
                                 continue;
                             }
-                            Ok(Err(_)) => continue,
+                            Ok(Err(_)) => {
+                                eta.end(i);
+                                continue;
+                            }
                             Err(e) => {
                                 say(format!(
                                     "error   {} [{}]: cannot claim: {e}",
                                     job.id, job.index
                                 ));
+                                eta.end(i);
                                 continue;
                             }
                         };
@@ -377,6 +384,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         let mut last =
                             store::checkpoint_progress(&dir).map_or(0.0, |p| p.on(clock));
                         overall.inc((last * work_per_clock) as u64);
+                        eta.start(i, (job.params.run.length() - last) * work_per_clock);
                         let started = std::time::Instant::now();
                         let (start_clock, mut printed) = (last, std::time::Instant::now());
                         let mut on_progress = |p: execute::JobProgress| {
@@ -387,6 +395,14 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                             ));
                             let delta = (p.clock - last).max(0.0);
                             overall.inc((delta * work_per_clock) as u64);
+                            eta.progress(
+                                i,
+                                delta * work_per_clock,
+                                (p.target - p.clock) * work_per_clock,
+                            );
+                            if interactive {
+                                overall.set_message(eta.text().trim_start_matches(", ").to_string());
+                            }
                             last = p.clock;
                             // without a terminal (a Slurm log, a file): a plain line per job at
                             // a fixed wall-clock interval (output only; the run never depends
@@ -422,6 +438,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                             }));
                         bar.finish_and_clear();
                         multi.remove(&bar);
+                        eta.end(i);
                         let outcome = match outcome {
                             Ok(Ok(JobEnd::Finished(result))) => Outcome::Finished(result),
                             Ok(Ok(JobEnd::Stopped)) => Outcome::Failed("stopped early".into()),
