@@ -753,3 +753,71 @@ fn failed_job_is_recorded_and_retried() {
     ]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// `plan` calibrates its rate on unfinished jobs too (the work to their checkpoint over the
+/// wall seconds they ran to reach it), so a long sweep's first night-time estimate does not
+/// rest on the engine's typical rate once a job has checkpointed.
+#[test]
+fn plan_calibrates_on_checkpointed_jobs() {
+    let dir = scratch("plan-checkpointed");
+    let file = write(
+        &dir,
+        "s.ron",
+        &sweep_text(
+            "",
+            "        length_over_width: [1.0, 2.0],\n",
+            "",
+            400.0,
+            20.0,
+        ),
+    );
+    let results = dir.join("results");
+    let plan = || {
+        let out = granflow_ok(&[
+            "plan",
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+        ]);
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    assert!(plan().contains("typical"), "{}", plan());
+    // job 0 runs 5 snapshots (100 of 400 collisions per particle) and stops, checkpointed
+    let sweep = load_sweep(&file, &[]).unwrap();
+    let dirs = sweep.results_dir(&results);
+    let job = &sweep.plan[0];
+    let jd = dirs.job_dir(&job.id);
+    queue::init_job_dir(&jd, job).unwrap();
+    let claim = queue::try_claim(&jd, false).unwrap().unwrap();
+    assert!(matches!(
+        execute::run_job(job, &claim, Some(5), &mut |_| {}).unwrap(),
+        JobEnd::Stopped
+    ));
+    drop(claim);
+    let cp = queue::read_checkpoint(&jd).unwrap().unwrap();
+    assert!(cp.wall_seconds > 0.0 && cp.progress.collisions_per_particle > 0.0);
+    let after = plan();
+    assert!(
+        after.contains("measured on 0 finished and 1 unfinished jobs"),
+        "{after}"
+    );
+    // the rate it states is the checkpoint's: the work to it over its wall seconds
+    let stated: f64 = after
+        .split("of this sweep (")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .expect("a stated rate");
+    let def = job.params.def();
+    let work = (def.work)(
+        &job.params.values,
+        granflow::engine::Clock::CollisionsPerParticle,
+        cp.progress.collisions_per_particle,
+    );
+    let measured = work / cp.wall_seconds;
+    // the plan prints four significant digits
+    assert!(
+        (stated / measured - 1.0).abs() < 1e-3,
+        "stated {stated}, checkpoint {measured}"
+    );
+}

@@ -4,8 +4,9 @@
 //!
 //! Calibration, from the job directories alone:
 //! - the **rate** (work units per core-second): the summed work of the sweep's finished jobs
-//!   over their summed wall seconds; without finished jobs, the engine's typical rate
-//!   (its declaration's `work_rate`);
+//!   and of its unfinished jobs to their checkpoints, over the wall seconds each took (a
+//!   checkpoint keeps them); without either, the engine's typical rate (its declaration's
+//!   `work_rate`);
 //! - for runs measured in simulated time on an engine that counts collisions, the **collisions
 //!   per particle per time unit**: the job's own, when its checkpoint says how far it got;
 //!   else the median over the sweep's finished and checkpointed jobs; else the engine's
@@ -98,16 +99,36 @@ pub fn estimate(
         .iter()
         .filter_map(|j| j.result.as_ref().map(|r| (j.job, r)))
         .collect();
-    let (work, secs) = finished.iter().fold((0.0, 0.0), |(w, s), (job, r)| {
-        (w + work_done(job, r), s + r.wall_seconds)
-    });
+    // unfinished jobs that got somewhere: the work to their checkpoint over the wall seconds
+    // they had run to reach it
+    let checkpointed: Vec<(f64, f64)> = jobs
+        .iter()
+        .filter(|j| matches!(j.state, JobState::Running | JobState::Partial(_)))
+        .filter_map(|j| {
+            let (progress, secs) = store::checkpoint_measure(&sweep_dir(j.job))?;
+            let clock = work_clock(j.job);
+            let work = (j.job.params.def().work)(&j.job.params.values, clock, progress.on(clock));
+            (work > 0.0 && secs > 0.0).then_some((work, secs))
+        })
+        .collect();
+    let (work, secs) = finished
+        .iter()
+        .map(|(job, r)| (work_done(job, r), r.wall_seconds))
+        .chain(checkpointed.iter().copied())
+        .fold((0.0, 0.0), |(w, s), (dw, ds)| (w + dw, s + ds));
     let engine = jobs.first().map(|j| j.job.params.def());
+    let measured_on = match checkpointed.len() {
+        0 => format!("{} finished jobs", finished.len()),
+        n => format!(
+            "{} finished and {n} unfinished jobs (to their checkpoints)",
+            finished.len()
+        ),
+    };
     let (rate, rate_basis) = match engine {
         Some(def) if secs > 0.0 && work > 0.0 => (
             work / secs,
             format!(
-                "the rate measured on {} finished jobs of this sweep ({:.3e} {}/s)",
-                finished.len(),
+                "the rate measured on {measured_on} of this sweep ({:.3e} {}/s)",
                 work / secs,
                 def.work_unit
             ),
@@ -115,7 +136,7 @@ pub fn estimate(
         Some(def) => (
             def.work_rate,
             format!(
-                "the {} engine's typical {:.1e} {}/s (no job of this sweep has finished)",
+                "the {} engine's typical {:.1e} {}/s (no job of this sweep has run yet)",
                 def.name, def.work_rate, def.work_unit
             ),
         ),

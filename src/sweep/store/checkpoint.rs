@@ -144,6 +144,15 @@ pub fn checkpoint_progress(dir: &Path) -> Option<crate::engine::Progress> {
     read_checkpoint(dir).ok().flatten().map(|c| c.progress)
 }
 
+/// A job's clocks at its checkpoint and the wall-clock seconds it had run to get there (None
+/// without a readable checkpoint).
+pub fn checkpoint_measure(dir: &Path) -> Option<(crate::engine::Progress, f64)> {
+    read_checkpoint(dir)
+        .ok()
+        .flatten()
+        .map(|c| (c.progress, c.wall_seconds))
+}
+
 /// Read a job's checkpoint (None when there is none).
 pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
     let path = dir.join(CHECKPOINT_FILE);

@@ -26,7 +26,9 @@ mod claim;
 mod records;
 mod result;
 
-pub use checkpoint::{JobCheckpoint, checkpoint_progress, read_checkpoint, write_checkpoint};
+pub use checkpoint::{
+    JobCheckpoint, checkpoint_measure, checkpoint_progress, read_checkpoint, write_checkpoint,
+};
 pub use claim::{Claim, NotClaimed, allow_claims_without_locks, check_locking, holder, try_claim};
 pub use records::{RecordLog, load_records, records_so_far};
 pub use result::{JobResult, RESULT_FORMAT, done_line, read_result, write_result};
