@@ -178,6 +178,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
             .expect("valid template")
             .progress_chars("=> "),
     );
+    overall.set_message("ETA ?");
     let done_count = AtomicUsize::new(summary.already_done);
     let set_overall = |done: usize| {
         overall.set_prefix(format!(
