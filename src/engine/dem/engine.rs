@@ -18,7 +18,7 @@ use super::forces::{self, Boundaries, Pass, Tally};
 use super::neighbours::{KeptContact, NeighbourList};
 use super::params::{ContactType, DampingFrom, DemParams, SizeMix};
 use super::prepare::{self, Preparation, SETTLE_CHECK_EVERY};
-use super::sampling::{BinSums, Bins, IntervalSums, SYM};
+use super::sampling::{Bins, IntervalSums, SYM};
 use crate::engine::{BoxGeometry, Particles};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -910,31 +910,4 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
         a[2] * b[0] - a[0] * b[2],
         a[0] * b[1] - a[1] * b[0],
     ]
-}
-
-/// Bin sums of a record summed over bins (tests and checks).
-pub fn total(bins: &[BinSums]) -> BinSums {
-    let mut t = BinSums::default();
-    for b in bins {
-        t.count += b.count;
-        t.volume += b.volume;
-        t.mass += b.mass;
-        t.inertia += b.inertia;
-        t.dissipation += b.dissipation;
-        t.contacts += b.contacts;
-        for k in 0..3 {
-            t.momentum[k] += b.momentum[k];
-            t.spin_momentum[k] += b.spin_momentum[k];
-        }
-        for k in 0..6 {
-            t.momentum_flux[k] += b.momentum_flux[k];
-            t.spin_flux[k] += b.spin_flux[k];
-            t.mean_momentum_flux[k] += b.mean_momentum_flux[k];
-            t.mean_spin_flux[k] += b.mean_spin_flux[k];
-        }
-        for k in 0..9 {
-            t.contact_stress[k] += b.contact_stress[k];
-        }
-    }
-    t
 }
