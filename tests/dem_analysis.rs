@@ -1,11 +1,11 @@
 //! The dense analysis against synthetic DEM records whose answers are known: a linear
 //! velocity profile and its shear rate, a given temperature, the stress of a known set of
 //! contacts in the paper's axes, the block errors of a known series, the profile of eq. 3.1
-//! and its constant, and the regime of an accelerating and of a stopped flow.
+//! and its constant, the regime of an accelerating and of a stopped flow, and Q6 of the plug.
 
 use granflow::analysis::dense::{DenseSettings, analyse, shear_layer};
 use granflow::engine::dem::{
-    BinSums, Bins, DampingFrom, IntervalSums, Record, RunConstants, SizeMix,
+    BinSums, Bins, BondSums, DampingFrom, IntervalSums, Record, RunConstants, SizeMix,
 };
 
 /// W = 10 (bins 0, 1.5, 2.5, ..., 8.5, 10), L = 2, B = 2 (bin cross-section 4).
@@ -34,6 +34,7 @@ fn constants(width: f64) -> RunConstants {
         wall_friction: 0.5,
         contact_types: Vec::new(),
         bin_edges: Bins::new(width).edges,
+        bond_cutoff: 1.2,
     }
 }
 
@@ -81,6 +82,7 @@ fn record(k: u64, width: f64, balance: f64, u_cm: f64, f: &dyn Fn(f64, f64) -> B
             com_velocity: [u_cm, 0.0, 0.0],
             ..Default::default()
         },
+        bonds: Vec::new(),
     }
 }
 
@@ -262,4 +264,95 @@ fn the_balance_and_the_velocity_give_the_regime() {
         (a.wall_friction_coefficient / expect - 1.0).abs() < 1e-12,
         "{a:?}"
     );
+}
+
+/// Bond sums of `copies` copies of a set of bond directions.
+fn bonds_of(directions: &[[f64; 3]], copies: usize) -> BondSums {
+    let mut s = BondSums::default();
+    for _ in 0..copies {
+        for &r in directions {
+            s.add_bond(r);
+        }
+    }
+    s
+}
+
+/// Q6 of the plug: a W = 10 channel whose three central bins are a dense, unsheared plug
+/// (phi = 0.64) with the bonds of fcc, the rest loose with the bonds of simple cubic. The
+/// plug's Q6 is fcc's 0.5745 (the sc bins outside do not enter), the profile gives each bin
+/// its own; without a plug the dense zone is read, and a loose channel has no Q6.
+#[test]
+fn q6_is_read_in_the_plug_else_in_the_dense_zone() {
+    let mut fcc = Vec::new();
+    for a in [-1.0, 1.0] {
+        for b in [-1.0, 1.0] {
+            fcc.extend([[a, b, 0.0], [a, 0.0, b], [0.0, a, b]]);
+        }
+    }
+    let sc = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let run = |phi: &dyn Fn(f64) -> f64, u: &dyn Fn(f64) -> f64| {
+        let records: Vec<Record> = (0..10)
+            .map(|k| {
+                let mut r = record(k, W, 1.0, 5.0, &|x, v| {
+                    bin(20.0, 0.5, u(x), 0.01, phi(x), v)
+                });
+                let edges = r.constants.bin_edges.clone();
+                r.bonds = edges
+                    .windows(2)
+                    .map(|e| {
+                        let x = 0.5 * (e[0] + e[1]);
+                        let (mut b, q) = if (x - 5.0).abs() < 1.5 {
+                            (bonds_of(&fcc, 7), 0.5)
+                        } else {
+                            (bonds_of(&sc, 5), 0.3)
+                        };
+                        b.particles = 10.0;
+                        b.local_q6 = 10.0 * q;
+                        b
+                    })
+                    .collect();
+                r
+            })
+            .collect();
+        analyse(&records, &DenseSettings::default())
+    };
+    let plug = |x: f64| if (x - 5.0).abs() < 1.5 { 0.64 } else { 0.55 };
+    let a = run(&plug, &|_| 3.0);
+    let s = &a.dense_summary;
+    assert_eq!(s.q6_region, "plug", "{s:?}");
+    assert_eq!(s.plug_start, 3.5);
+    assert!((s.q6_plug - 0.574_524).abs() < 1e-5, "{s:?}");
+    assert!(s.q6_plug_error < 1e-12, "identical blocks: {s:?}");
+    // the local q6 sums given per bin: 0.5 per particle in the plug
+    assert!((s.local_q6_plug - 0.5).abs() < 1e-12, "{s:?}");
+    let q6 = profile(&a, "q6");
+    assert_eq!(q6.len(), 9);
+    assert!((q6[0].1 - 0.353_553).abs() < 1e-5, "{q6:?}");
+    assert!((q6[4].1 - 0.574_524).abs() < 1e-5, "{q6:?}");
+    let local = profile(&a, "local_q6");
+    assert!((local[0].1 - 0.3).abs() < 1e-12 && (local[4].1 - 0.5).abs() < 1e-12);
+    // dense (phi_ad <= phi < 0.63) everywhere and sheared: no plug, the dense zone is read
+    // (the whole channel here: 3 fcc bins of 84 bonds, 6 sc bins of 15)
+    let a = run(&|_| 0.60, &|x| 3.0 - 0.1 * (x - 5.0).abs());
+    let s = &a.dense_summary;
+    assert_eq!(s.q6_region, "dense", "{s:?}");
+    assert!(s.plug_start.is_nan());
+    let mut all = BondSums::default();
+    for _ in 0..3 {
+        all.add(&bonds_of(&fcc, 7));
+    }
+    for _ in 0..6 {
+        all.add(&bonds_of(&sc, 5));
+    }
+    assert!((s.q6_plug - all.q6()).abs() < 1e-12, "{s:?}");
+    assert!(
+        (s.local_q6_plug - (3.0 * 0.5 + 6.0 * 0.3) / 9.0).abs() < 1e-12,
+        "{s:?}"
+    );
+    // loose everywhere: no region, no value
+    let a = run(&|_| 0.5, &|_| 3.0);
+    let s = &a.dense_summary;
+    assert_eq!(s.q6_region, "none");
+    assert!(s.q6_plug.is_nan() && s.q6_plug_error.is_nan(), "{s:?}");
+    assert!(s.local_q6_plug.is_nan());
 }

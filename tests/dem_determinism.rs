@@ -118,7 +118,7 @@ fn threads_do_not_change_a_bit() {
             let mut e = DemEngine::from_state(p.clone(), &states, &[]).unwrap();
             e.advance_to_step(400).unwrap();
             assert!(e.listed_pairs() > 2048, "{}", e.listed_pairs());
-            e.checkpoint()
+            (e.checkpoint(), bits(&e.bond_sums()))
         })
     };
     let one = run(1);
@@ -189,6 +189,14 @@ fn checkpoint_restore_continue_is_bitwise_the_uninterrupted_run() {
             "sums at {k}"
         );
         assert_eq!(da.particles, db.particles, "particles at {k}");
+        // the bond-order sums, taken in tag order: the restored engine's working order (its
+        // list was built at the restore) does not enter
+        assert_eq!(
+            bits(&da.record.bonds),
+            bits(&db.record.bonds),
+            "bonds at {k}"
+        );
+        assert!(da.record.bonds.iter().map(|s| s.bonds).sum::<f64>() > 1000.0);
         assert_eq!(sa.content, sb.content, "snapshot at {k}");
         assert_eq!(a.checkpoint(), b.checkpoint(), "checkpoint at {k}");
     }
@@ -201,6 +209,18 @@ fn checkpoint_restore_continue_is_bitwise_the_uninterrupted_run() {
     a.prepare(1300).unwrap();
     b.prepare(1300).unwrap();
     assert_eq!(a.to_payload(), b.to_payload(), "preparation");
+}
+
+/// The bits of bond-order sums.
+fn bits(sums: &[granflow::engine::dem::BondSums]) -> Vec<u64> {
+    sums.iter()
+        .flat_map(|s| {
+            [s.bonds, s.particles, s.local_q6]
+                .into_iter()
+                .chain(s.harmonics)
+                .map(f64::to_bits)
+        })
+        .collect()
 }
 
 struct IntervalSumsNoBins<'a>(&'a granflow::engine::dem::IntervalSums);

@@ -23,7 +23,11 @@
 //!   over every step; mu_wall: sum over both walls of |F_flow| over sum of |F_normal|;
 //! - the wall-force balance beta: both walls' flow-wise force over M g, every step;
 //! - u_cm's relative fluctuation: the standard deviation of the records' mean u_cm over
-//!   their mean (the paper's Fig. 3 reading).
+//!   their mean (the paper's Fig. 3 reading);
+//! - Q6 of the plug (the paper's check Q6 < 0.4, dem.md O22/N16): the global Q6 of the bonds
+//!   with their midpoint in the plug's bins, pooled over the window's snapshots; without a
+//!   plug, of the dense zone's bins (which reach the centre); without either, NaN
+//!   ([`q6_region`]); likewise the mean local q6 of the region's bonded particles.
 
 pub mod profiles;
 pub mod regime;
@@ -149,6 +153,14 @@ pub struct DenseSummary {
     pub plug_start: f64,
     pub loose_width: f64,
     pub plug_width: f64,
+    /// Q6 of the bonds in `q6_region`, pooled over the window's snapshots
+    pub q6_plug: f64,
+    pub q6_plug_error: f64,
+    /// mean local q6 of the bonded particles in `q6_region`, over the window's snapshots
+    pub local_q6_plug: f64,
+    pub local_q6_plug_error: f64,
+    /// which bins gave `q6_plug`: "plug", "dense" (no plug: the dense zone) or "none"
+    pub q6_region: String,
 }
 
 impl Default for DenseSummary {
@@ -187,6 +199,11 @@ impl Default for DenseSummary {
             plug_start: nan,
             loose_width: nan,
             plug_width: nan,
+            q6_plug: nan,
+            q6_plug_error: nan,
+            local_q6_plug: nan,
+            local_q6_plug_error: nan,
+            q6_region: "none".into(),
         }
     }
 }
@@ -386,6 +403,17 @@ pub fn stop_reason(records: &[Record], settings: &DenseSettings, span: f64) -> O
     })
 }
 
+/// Where Q6 is read: the plug's folded bins ("plug"), or without a plug the dense zone's
+/// ("dense": it reaches the centre, so these are the central bins within it), or nowhere
+/// ("none": the centre is looser than phi_ad); with the first folded bin of the region.
+pub fn q6_region(z: &zones::Zones) -> (&'static str, Option<usize>) {
+    match (z.plug_from, z.dense_from) {
+        (Some(k), _) => ("plug", Some(k)),
+        (None, Some(k)) => ("dense", Some(k)),
+        (None, None) => ("none", None),
+    }
+}
+
 /// The series rows of the usable records.
 fn series(usable: &[&Record], start: usize) -> Vec<SeriesRow> {
     usable
@@ -529,6 +557,23 @@ pub fn analyse(records: &[Record], settings: &DenseSettings) -> DenseAnalysis {
     s.plug_start = z.plug_start;
     s.loose_width = z.loose_width;
     s.plug_width = z.plug_width;
+    // Q6 of the plug (else of the dense zone), with the block error
+    let (region, from) = q6_region(&z);
+    s.q6_region = region.into();
+    if let Some(k) = from {
+        let bins = k..whole.len() - k;
+        let pooled = |t: &Totals| {
+            let mut s = crate::engine::dem::BondSums::default();
+            for b in t.bonds.get(bins.clone()).unwrap_or_default() {
+                s.add(b);
+            }
+            (s.q6(), s.mean_local_q6())
+        };
+        let blocks: Vec<(f64, f64)> = parts.iter().map(|(t, _)| pooled(t)).collect();
+        (s.q6_plug, s.local_q6_plug) = pooled(&total);
+        s.q6_plug_error = standard_error(&blocks.iter().map(|b| b.0).collect::<Vec<_>>());
+        s.local_q6_plug_error = standard_error(&blocks.iter().map(|b| b.1).collect::<Vec<_>>());
+    }
     DenseAnalysis {
         dense_summary: s,
         profiles: rows,

@@ -25,10 +25,14 @@
 //!   is -w_z (the paper's axes are a reflection of ours);
 //! - mu = |sigma_xy / sigma_xx|, I = d_p |du_y/dx| / sqrt(sigma_xx / rho_p), with
 //!   d_p = rho_p = 1; shear production -sigma_yx du_y/dx (positive where the mean flow feeds
-//!   the fluctuations).
+//!   the fluctuations);
+//! - Q6: the global bond-orientational order of the bonds whose midpoint is in the bin, pooled
+//!   over the snapshots (sums of Y_6m over every bond of every snapshot, then
+//!   sqrt(4 pi / 13 sum_m |sum Y_6m|^2) / n_bonds; [`crate::engine::dem::bond_order`]); and
+//!   the mean local q6 of the bonded particles with their centre in the bin.
 
 use crate::engine::dem::sampling::SYM;
-use crate::engine::dem::{BinSums, Record};
+use crate::engine::dem::{BinSums, BondSums, Record};
 use std::f64::consts::PI;
 
 /// Summed sums of some records: what every field is computed from.
@@ -46,6 +50,8 @@ pub struct Totals {
     pub wall_force: [[f64; 3]; 2],
     /// sum of u_cm (along the flow) over the samples
     pub com_velocity: f64,
+    /// per bin: the bond-order sums of the records' snapshots
+    pub bonds: Vec<BondSums>,
     /// the records summed
     pub records: usize,
 }
@@ -67,6 +73,12 @@ impl Totals {
         }
         for (a, b) in self.bins.iter_mut().zip(&s.bins) {
             add_bin(a, b);
+        }
+        if self.bonds.len() < r.bonds.len() {
+            self.bonds.resize(r.bonds.len(), BondSums::default());
+        }
+        for (a, b) in self.bonds.iter_mut().zip(&r.bonds) {
+            a.add(b);
         }
         self.samples += s.samples as f64;
         for w in 0..2 {
@@ -159,6 +171,10 @@ pub struct BinFields {
     pub dissipation: f64,
     /// du_y/dx
     pub shear_rate: f64,
+    /// Q6 of the bonds with their midpoint in the bin (NaN: none)
+    pub q6: f64,
+    /// mean local q6 of the bonded particles with their centre in the bin (NaN: none)
+    pub local_q6: f64,
 }
 
 impl BinFields {
@@ -236,6 +252,8 @@ pub fn fields(t: &Totals, g: &Geometry) -> Vec<BinFields> {
                 stress,
                 dissipation: (b.dissipation + wall.map_or(0.0, |w| t.wall_dissipation[w])) / sv,
                 shear_rate: f64::NAN,
+                q6: t.bonds.get(k).map_or(f64::NAN, BondSums::q6),
+                local_q6: t.bonds.get(k).map_or(f64::NAN, BondSums::mean_local_q6),
             }
         })
         .collect();
@@ -291,6 +309,8 @@ pub const QUANTITIES: &[(&str, Reading)] = &[
     ("shear_production", BinFields::shear_production),
     ("mu", BinFields::friction),
     ("inertial_number", BinFields::inertial_number),
+    ("q6", |f| f.q6),
+    ("local_q6", |f| f.local_q6),
 ];
 
 /// Mean of mirror bins (k and n-1-k) of an even profile, from the wall to the centre; an odd

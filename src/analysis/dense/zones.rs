@@ -36,6 +36,10 @@ pub struct Zones {
     pub loose_width: f64,
     /// width of the plug, W - 2 plug_start (0 without a plug)
     pub plug_width: f64,
+    /// the folded bins of the dense zone: from this one to the centre (None: no dense zone)
+    pub dense_from: Option<usize>,
+    /// the folded bins of the plug: from this one to the centre (None: no plug)
+    pub plug_from: Option<usize>,
 }
 
 /// The zones of folded profiles: bin centres and wall-side edges (distance from the wall),
@@ -61,7 +65,8 @@ pub fn zones(
         }
         first
     };
-    let dense_start = match inner_run(&|k| phi[k] >= PHI_AD) {
+    let dense = inner_run(&|k| phi[k] >= PHI_AD);
+    let dense_start = match dense {
         None => f64::NAN,
         Some(0) => 0.0,
         Some(k) => {
@@ -87,6 +92,8 @@ pub fn zones(
         } else {
             (width - 2.0 * plug_start).max(0.0)
         },
+        dense_from: dense,
+        plug_from: plug,
     }
 }
 
@@ -111,6 +118,7 @@ mod tests {
         );
         assert_eq!(z.plug_start, 3.5);
         assert_eq!(z.plug_width, 3.0);
+        assert_eq!((z.dense_from, z.plug_from), (Some(2), Some(3)));
         assert!((z.loose_width - (z.dense_start - 2.0)).abs() < 1e-12);
     }
 
@@ -124,9 +132,11 @@ mod tests {
         assert_eq!(z.dense_start, 0.0);
         assert_eq!(z.loose_width, 0.0);
         assert!(z.plug_start.is_nan() && z.plug_width == 0.0, "{z:?}");
+        assert_eq!((z.dense_from, z.plug_from), (Some(0), None));
         // a loose centre: no dense zone
         let z = zones(&CENTRES, &EDGES, &[0.5; 5], &shear, &error, 10.0);
         assert!(z.dense_start.is_nan());
+        assert_eq!(z.dense_from, None);
         assert_eq!(z.loose_width, 3.0);
     }
 }

@@ -23,7 +23,10 @@ const PAYLOAD_VERSION: u32 = 1;
 pub static DECLARATION: EngineDef = EngineDef {
     name: "dem",
     title: "soft-sphere DEM of dense granular flow in a vertical channel (Debnath, Rao & Kumaran 2022)",
-    version: 1,
+    // 2: every record carries the bond-order sums of its snapshot (Q6); trajectories are
+    // bitwise those of version 1, but records of version 1 cannot give Q6 (and no longer
+    // decode), so their jobs rerun from the start
+    version: 2,
     params: PARAMS,
     alternatives: &[&["restitution", "normal_damping"]],
     clocks: &[Clock::Time, Clock::Steps],

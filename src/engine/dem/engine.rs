@@ -11,13 +11,14 @@
 //! working order, the list or the thread count, and a restored engine continues bitwise.
 
 use super::bodies::{Bodies, BodyState};
+use super::bond_order::{self, BondSums};
 use super::contact::{self, ContactLaw};
 use super::domain::Domain;
 use super::forces::{self, Boundaries, Pass, Tally};
 use super::neighbours::{KeptContact, NeighbourList};
 use super::params::{ContactType, DampingFrom, DemParams, SizeMix};
 use super::prepare::{self, Preparation, SETTLE_CHECK_EVERY};
-use super::sampling::{BinSums, Bins, IntervalSums, SYM};
+use super::sampling::{Bins, IntervalSums, SYM};
 use crate::engine::{BoxGeometry, Particles};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -95,13 +96,20 @@ pub struct RunConstants {
     pub contact_types: Vec<ContactType>,
     /// the bins' edges across the channel
     pub bin_edges: Vec<f64>,
+    /// two particles are bonded (for Q6) when their centres are closer than this times the
+    /// mean of their diameters ([`bond_order::BOND_CUTOFF`])
+    pub bond_cutoff: f64,
 }
 
-/// What a snapshot's analysis keeps: the run's constants and the interval's sums.
+/// What a snapshot's analysis keeps: the run's constants, the interval's sums, and the
+/// bond-orientational sums of the state at the snapshot.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Record {
     pub constants: RunConstants,
     pub sums: IntervalSums,
+    /// per bin, the bonds with their midpoint in it and their sums of Y_6m, of the particles
+    /// at the snapshot ([`bond_order`]: one evaluation per snapshot, not per sample)
+    pub bonds: Vec<BondSums>,
 }
 
 /// A snapshot of the DEM engine: the record and the particles (tag order).
@@ -766,6 +774,7 @@ impl DemEngine {
             wall_friction: p.wall_friction,
             contact_types: p.contact_types(),
             bin_edges: self.bins.edges.clone(),
+            bond_cutoff: bond_order::BOND_CUTOFF,
         }
     }
 
@@ -782,9 +791,22 @@ impl DemEngine {
             record: Record {
                 constants: self.constants(),
                 sums,
+                bonds: self.bond_sums(),
             },
             particles: self.particles(),
         }
+    }
+
+    /// The bond-orientational sums per bin of the particles now (tag order: a function of
+    /// the positions alone).
+    pub fn bond_sums(&self) -> Vec<BondSums> {
+        let b = &self.bodies;
+        bond_order::bond_sums(
+            &self.domain,
+            &self.bins,
+            &b.by_tag(&b.x),
+            &b.by_tag(&b.radius),
+        )
     }
 
     /// The particles now, in tag order.
@@ -888,31 +910,4 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
         a[2] * b[0] - a[0] * b[2],
         a[0] * b[1] - a[1] * b[0],
     ]
-}
-
-/// Bin sums of a record summed over bins (tests and checks).
-pub fn total(bins: &[BinSums]) -> BinSums {
-    let mut t = BinSums::default();
-    for b in bins {
-        t.count += b.count;
-        t.volume += b.volume;
-        t.mass += b.mass;
-        t.inertia += b.inertia;
-        t.dissipation += b.dissipation;
-        t.contacts += b.contacts;
-        for k in 0..3 {
-            t.momentum[k] += b.momentum[k];
-            t.spin_momentum[k] += b.spin_momentum[k];
-        }
-        for k in 0..6 {
-            t.momentum_flux[k] += b.momentum_flux[k];
-            t.spin_flux[k] += b.spin_flux[k];
-            t.mean_momentum_flux[k] += b.mean_momentum_flux[k];
-            t.mean_spin_flux[k] += b.mean_spin_flux[k];
-        }
-        for k in 0..9 {
-            t.contact_stress[k] += b.contact_stress[k];
-        }
-    }
-    t
 }

@@ -95,6 +95,15 @@ impl Tally {
             .sum()
     }
 
+    /// The sum of the blocks' tallies, in block order.
+    pub fn sum(tallies: &[Tally]) -> Tally {
+        let mut sum = Tally::default();
+        for t in tallies {
+            sum.add(t);
+        }
+        sum
+    }
+
     /// Add a later block's tally.
     pub fn add(&mut self, o: &Tally) {
         for w in 0..2 {
@@ -254,10 +263,7 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
                 };
                 output.touch[q] = true;
                 touching += 1;
-                for d in 0..3 {
-                    f[d] += c.force[d];
-                    t[d] -= ra * c.tor[d];
-                }
+                add_contact(&mut f, &mut t, ra, &c);
             } else if output.touch[q] {
                 // the contact ended: its history is dropped
                 output.out[q] = PairOut::default();
@@ -269,6 +275,17 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
         output.owned_torque[a - lo] = t;
     }
     touching
+}
+
+/// A contact's part of the force and torque on the particle of radius `r` it was computed
+/// for (the owner of a pair, or the particle at a wall or the floor): F += force,
+/// tau -= r tor.
+#[inline(always)]
+fn add_contact(f: &mut [f64; 3], t: &mut [f64; 3], r: f64, c: &contact::ContactForce) {
+    for d in 0..3 {
+        f[d] += c.force[d];
+        t[d] -= r * c.tor[d];
+    }
 }
 
 /// The force of the nearer wall (LAMMPS fix wall/gran with yplane 0 W) on a particle at y,
@@ -363,10 +380,9 @@ pub fn particle_pass(
                         &mut wss[k],
                         update,
                     );
-                    for d in 0..3 {
-                        f[d] += cw.force[d];
-                        t[d] -= r * cw.tor[d];
-                        tally.on_walls[wall][d] -= cw.force[d];
+                    add_contact(&mut f, &mut t, r, &cw);
+                    for (on, fd) in tally.on_walls[wall].iter_mut().zip(cw.force) {
+                        *on -= fd;
                     }
                     tally.wall_contacts += 1;
                     if record_wall {
@@ -396,10 +412,9 @@ pub fn particle_pass(
                             &mut fss[k],
                             update,
                         );
-                        for d in 0..3 {
-                            f[d] += cf.force[d];
-                            t[d] -= r * cf.tor[d];
-                            tally.on_floor[d] -= cf.force[d];
+                        add_contact(&mut f, &mut t, r, &cf);
+                        for (on, fd) in tally.on_floor.iter_mut().zip(cf.force) {
+                            *on -= fd;
                         }
                         tally.wall_contacts += 1;
                     } else if fss[k] != [0.0; 3] {
@@ -440,11 +455,7 @@ pub fn particle_pass(
             tally
         })
         .collect_into_vec(tallies);
-    let mut sum = Tally::default();
-    for t in tallies.iter() {
-        sum.add(t);
-    }
-    sum
+    Tally::sum(tallies)
 }
 
 /// The initial half step of one particle: v += (dt/2) F/m, x += dt v (wrapped), w += (dt/2)
@@ -525,9 +536,5 @@ pub fn kick_drift(
             tally
         })
         .collect_into_vec(tallies);
-    let mut sum = Tally::default();
-    for t in tallies.iter() {
-        sum.add(t);
-    }
-    sum
+    Tally::sum(tallies)
 }

@@ -30,6 +30,7 @@
 //! [`domain`] (periodicity), [`neighbours`] (cell list, neighbour list, histories across
 //! rebuilds), [`forces`] (the parallel pair and particle passes, velocity Verlet),
 //! [`prepare`] (the lattice and the settling), [`sampling`] (bins and interval sums),
+//! [`bond_order`] (the bond-orientational sums behind Q6, taken at each snapshot),
 //! [`engine`] (the step loop, snapshots, checkpoints), [`lammps`] (LAMMPS data, input and
 //! dump files), [`reference`] (all pairs, one thread:
 //! what the tests hold the engine to, bit for bit), `declaration` (the registry's view).
@@ -41,6 +42,7 @@
 //! and after any checkpoint and restore.
 
 pub mod bodies;
+pub mod bond_order;
 pub mod contact;
 mod declaration;
 pub mod domain;
@@ -54,6 +56,7 @@ pub mod reference;
 pub mod sampling;
 
 pub use bodies::BodyState;
+pub use bond_order::BondSums;
 pub use declaration::{DECLARATION, params_of};
 pub use engine::{DemCounters, DemEngine, Phase, Record, RunConstants, Sample, Totals};
 pub use neighbours::KeptContact;

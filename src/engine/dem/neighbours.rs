@@ -48,9 +48,10 @@ pub struct PairOut {
 /// other, s).
 pub type KeptContact = (u32, u32, [f64; 3]);
 
-/// The cell grid of one build.
+/// The cell grid of one build (also the bond search's, [`super::bond_order`]): cells at
+/// least `reach` wide, x and z periodic when the domain is, y over [0, W].
 #[derive(Clone, Copy, Debug, Default)]
-struct Grid {
+pub(super) struct Grid {
     lo: [f64; 3],
     inv_width: [f64; 3],
     n: [usize; 3],
@@ -58,7 +59,7 @@ struct Grid {
 }
 
 impl Grid {
-    fn new(domain: &Domain, positions: &[[f64; 3]], reach: f64) -> Grid {
+    pub(super) fn new(domain: &Domain, positions: &[[f64; 3]], reach: f64) -> Grid {
         let mut g = Grid::default();
         for k in 0..3 {
             let periodic = k == 2 || (k == 0 && domain.periodic_x);
@@ -81,12 +82,12 @@ impl Grid {
         g
     }
 
-    fn cells(&self) -> usize {
+    pub(super) fn cells(&self) -> usize {
         self.n[0] * self.n[1] * self.n[2]
     }
 
     #[inline]
-    fn coord(&self, x: &[f64; 3]) -> [usize; 3] {
+    pub(super) fn coord(&self, x: &[f64; 3]) -> [usize; 3] {
         let mut c = [0; 3];
         for k in 0..3 {
             let f = ((x[k] - self.lo[k]) * self.inv_width[k]).floor();
@@ -100,13 +101,13 @@ impl Grid {
     }
 
     #[inline]
-    fn index(&self, c: [usize; 3]) -> usize {
+    pub(super) fn index(&self, c: [usize; 3]) -> usize {
         (c[0] * self.n[1] + c[1]) * self.n[2] + c[2]
     }
 
     /// The distinct neighbour coordinates of `c` along dimension k (itself included).
     #[inline]
-    fn around(&self, k: usize, c: usize) -> ([usize; 3], usize) {
+    pub(super) fn around(&self, k: usize, c: usize) -> ([usize; 3], usize) {
         let n = self.n[k];
         let mut out = [0; 3];
         let mut len = 0;
