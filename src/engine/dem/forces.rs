@@ -396,21 +396,29 @@ pub fn particle_pass(
         .enumerate()
         .map(|(c, (((((((xs, vs), ws), fs), ts), wss), fss), wfs))| {
             let mut tally = Tally::default();
-            for k in 0..xs.len() {
-                let i = c * PARTICLE_CHUNK + k;
-                let (r, m) = (radius[i], mass[i]);
+            // the block's particles lo .. lo + n in every array (k indexes them all)
+            let (lo, n) = (c * PARTICLE_CHUNK, xs.len());
+            let (vs, ws, fs, ts) = (&mut vs[..n], &mut ws[..n], &mut fs[..n], &mut ts[..n]);
+            let (wss, fss, wfs) = (&mut wss[..n], &mut fss[..n], &mut wfs[..n]);
+            let (radius, mass) = (&radius[lo..lo + n], &mass[lo..lo + n]);
+            let (kick_v, kick_w) = (&kick_v[lo..lo + n], &kick_w[lo..lo + n]);
+            let x_build = &x_build[lo..lo + n];
+            let (owned_force, owned_torque) = (&owned_force[lo..lo + n], &owned_torque[lo..lo + n]);
+            let in_start = &in_start[lo..=lo + n];
+            for k in 0..n {
+                let (r, m) = (radius[k], mass[k]);
                 // F = (sum over the lower part of the row, tag order, of -F_pair: the
                 //   incoming slots) + (sum over the owned pairs, formed by the pair kernel);
                 //   tau alike with -R_i tor
                 let mut f = [0.0f64; 3];
                 let mut t = [0.0f64; 3];
-                for o in &incoming[in_start[i] as usize..in_start[i + 1] as usize] {
+                for o in &incoming[in_start[k] as usize..in_start[k + 1] as usize] {
                     for d in 0..3 {
                         f[d] -= o.force[d];
                         t[d] -= r * o.tor[d];
                     }
                 }
-                let (of, ot) = (&owned_force[i], &owned_torque[i]);
+                let (of, ot) = (&owned_force[k], &owned_torque[k]);
                 for d in 0..3 {
                     f[d] += of[d];
                     t[d] += ot[d];
@@ -487,18 +495,18 @@ pub fn particle_pass(
                 }
                 // final half step: v += (dt/2) F/m, w += (dt/2) tau/I
                 for d in 0..3 {
-                    vs[k][d] += kick_v[i] * f[d];
-                    ws[k][d] += kick_w[i] * t[d];
+                    vs[k][d] += kick_v[k] * f[d];
+                    ws[k][d] += kick_w[k] * t[d];
                 }
                 if pass == Pass::FinalAndNext {
                     drift(
                         domain,
                         bounds,
                         dt,
-                        (kick_v[i], kick_w[i], m),
+                        (kick_v[k], kick_w[k], m),
                         (&mut xs[k], &mut vs[k], &mut ws[k]),
                         (&f, &t),
-                        &x_build[i],
+                        &x_build[k],
                         &mut tally,
                     );
                 }
@@ -540,9 +548,14 @@ fn drift(
     let g = &bounds.gravity;
     tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
     let s = domain.min_image([x[0] - x_build[0], x[1] - x_build[1], x[2] - x_build[2]]);
+    // (a plain comparison: s is never NaN, and the sign of a zero bound does not matter)
     for k in 0..3 {
-        tally.displacement_min[k] = tally.displacement_min[k].min(s[k]);
-        tally.displacement_max[k] = tally.displacement_max[k].max(s[k]);
+        if s[k] < tally.displacement_min[k] {
+            tally.displacement_min[k] = s[k];
+        }
+        if s[k] > tally.displacement_max[k] {
+            tally.displacement_max[k] = s[k];
+        }
     }
 }
 
