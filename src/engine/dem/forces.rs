@@ -285,8 +285,8 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
     let mut candidates = [0u32; SCAN_BLOCK];
     for block in (base..end).step_by(SCAN_BLOCK) {
         let mut n = 0;
-        for p in block..end.min(block + SCAN_BLOCK) {
-            let [a, b] = pairs[p];
+        let stop = end.min(block + SCAN_BLOCK);
+        for (p, &[a, b]) in (block..stop).zip(&pairs[block..stop]) {
             let (_, rsq, radsum) = separation(domain, x, radius, a as usize, b as usize);
             candidates[n] = p as u32;
             n += ((rsq < radsum * radsum) | output.touch[p - base]) as usize;
@@ -549,12 +549,13 @@ fn drift(
     tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
     let s = domain.min_image([x[0] - x_build[0], x[1] - x_build[1], x[2] - x_build[2]]);
     // (a plain comparison: s is never NaN, and the sign of a zero bound does not matter)
-    for k in 0..3 {
-        if s[k] < tally.displacement_min[k] {
-            tally.displacement_min[k] = s[k];
+    let bounds = tally.displacement_min.iter_mut().zip(&mut tally.displacement_max);
+    for ((lo, hi), s) in bounds.zip(s) {
+        if s < *lo {
+            *lo = s;
         }
-        if s[k] > tally.displacement_max[k] {
-            tally.displacement_max[k] = s[k];
+        if s > *hi {
+            *hi = s;
         }
     }
 }
