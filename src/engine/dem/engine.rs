@@ -674,7 +674,7 @@ impl DemEngine {
             let [a, c] = self.list.pairs[p];
             let (a, c) = (a as usize, c as usize);
             let r = self.domain.min_image(sub(b.x[a], b.x[c]));
-            let f = self.list.out[p].force;
+            let f = self.list.pair_out(p).force;
             let (ba, bc) = (self.bins.of(b.x[a][1]), self.bins.of(b.x[c][1]));
             for (k, fk) in f.iter().enumerate() {
                 for (l, rl) in r.iter().enumerate() {

@@ -2,7 +2,8 @@
 //! slot, the owner summing its owned pairs on the way) and the particle pass (each particle
 //! gathers the forces of the pairs owned by its lower-tag partners, in tag order, adds its
 //! owned sum, its wall and floor contacts and gravity, and kicks and drifts), both in
-//! parallel over blocks of particles.
+//! parallel over blocks of particles. A pair's forces go to a slot of the other particle's
+//! (its *incoming* slots, see [`super::neighbours`]), which the gather reads in one run.
 //!
 //! Integration is LAMMPS' velocity Verlet (`fix nve/sphere`), per particle:
 //!
@@ -24,6 +25,7 @@ use super::contact::{self, ContactLaw};
 use super::domain::Domain;
 use super::neighbours::{NeighbourList, PairOut};
 use rayon::prelude::*;
+use std::marker::PhantomData;
 
 /// Particles per parallel task.
 pub const PARTICLE_CHUNK: usize = 512;
@@ -134,12 +136,43 @@ struct PairInput<'a> {
     mass: &'a [f64],
     pairs: &'a [[u32; 2]],
     pair_start: &'a [u32],
+    in_slot: &'a [u32],
     update: bool,
+}
+
+/// The incoming slots while the pair kernel's tasks write them at scattered places (a pair's
+/// slot belongs to the other particle, anywhere in the working order). Sound because a slot
+/// is written only by the task evaluating its pair (the list gives every pair its own slot,
+/// and every pair is in one task's range of owners) and nothing reads the slots meanwhile.
+struct IncomingSlots<'a> {
+    ptr: *mut PairOut,
+    len: usize,
+    _slots: PhantomData<&'a mut [PairOut]>,
+}
+
+// SAFETY: tasks write disjoint slots (see the type's doc) and never read them.
+unsafe impl Sync for IncomingSlots<'_> {}
+
+impl<'a> IncomingSlots<'a> {
+    fn new(slots: &'a mut [PairOut]) -> Self {
+        IncomingSlots {
+            ptr: slots.as_mut_ptr(),
+            len: slots.len(),
+            _slots: PhantomData,
+        }
+    }
+
+    #[inline(always)]
+    fn set(&self, slot: usize, out: PairOut) {
+        assert!(slot < self.len);
+        // SAFETY: in bounds, and this task alone writes this slot during the kernel
+        unsafe { self.ptr.add(slot).write(out) }
+    }
 }
 
 /// What the pair kernel writes for a range of owners and their pairs.
 struct PairOutput<'a> {
-    out: &'a mut [PairOut],
+    incoming: &'a IncomingSlots<'a>,
     shear: &'a mut [[f64; 3]],
     touch: &'a mut [bool],
     owned_force: &'a mut [[f64; 3]],
@@ -149,21 +182,20 @@ struct PairOutput<'a> {
 impl<'a> PairOutput<'a> {
     /// Split after `particles` owners, whose pairs are the first `pairs`.
     fn split(self, particles: usize, pairs: usize) -> (PairOutput<'a>, PairOutput<'a>) {
-        let (o1, o2) = self.out.split_at_mut(pairs);
         let (s1, s2) = self.shear.split_at_mut(pairs);
         let (t1, t2) = self.touch.split_at_mut(pairs);
         let (f1, f2) = self.owned_force.split_at_mut(particles);
         let (q1, q2) = self.owned_torque.split_at_mut(particles);
         (
             PairOutput {
-                out: o1,
+                incoming: self.incoming,
                 shear: s1,
                 touch: t1,
                 owned_force: f1,
                 owned_torque: q1,
             },
             PairOutput {
-                out: o2,
+                incoming: self.incoming,
                 shear: s2,
                 touch: t2,
                 owned_force: f2,
@@ -173,10 +205,13 @@ impl<'a> PairOutput<'a> {
     }
 }
 
+/// Pairs per block of the candidate scan of [`owners`].
+const SCAN_BLOCK: usize = 256;
+
 /// Forces of all listed pairs at the current positions and velocities: each pair's force
-/// and tor into its slot, and each owner's sums over its owned pairs (tag order) of F and of
-/// -R_owner tor. In parallel over ranges of owners (split in halves down to
-/// [`PARTICLE_CHUNK`] owners), so that an owner's pairs are summed in one task, in order.
+/// and tor into the other's incoming slot, and each owner's sums over its owned pairs (tag
+/// order) of F and of -R_owner tor. In parallel over ranges of owners (split in halves down
+/// to [`PARTICLE_CHUNK`] owners), so that an owner's pairs are summed in one task, in order.
 /// Returns the number of touching pairs. `update`: advance the histories.
 pub fn pair_forces(
     law: &ContactLaw,
@@ -195,10 +230,12 @@ pub fn pair_forces(
         mass: &bodies.mass,
         pairs: &list.pairs,
         pair_start: &list.pair_start,
+        in_slot: &list.in_slot,
         update,
     };
+    let incoming = IncomingSlots::new(&mut list.incoming);
     let output = PairOutput {
-        out: &mut list.out,
+        incoming: &incoming,
         shear: &mut list.shear,
         touch: &mut list.touch,
         owned_force: &mut list.owned_force,
@@ -207,7 +244,24 @@ pub fn pair_forces(
     owners(&input, 0, bodies.len(), output)
 }
 
-/// The pairs of owners lo .. hi (their slots start at pair_start[lo]).
+/// del = x_a - x_b (minimum image), r^2 = |del|^2 and R_a + R_b of the pair (a, b).
+#[inline(always)]
+fn separation(
+    domain: &Domain,
+    x: &[[f64; 3]],
+    radius: &[f64],
+    a: usize,
+    b: usize,
+) -> ([f64; 3], f64, f64) {
+    let del = domain.min_image([x[a][0] - x[b][0], x[a][1] - x[b][1], x[a][2] - x[b][2]]);
+    let rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+    (del, rsq, radius[a] + radius[b])
+}
+
+/// The pairs of owners lo .. hi (their slots start at pair_start[lo]), in blocks: first the
+/// block's candidates, the pairs touching now (r^2 < (R_a + R_b)^2) or at the last evaluation,
+/// collected without a branch on the contact test (most listed pairs do not touch, and which
+/// do is unpredictable); then the candidates' forces, or the end of their contact.
 fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
     if hi - lo > PARTICLE_CHUNK {
         let mid = lo + (hi - lo) / 2;
@@ -229,50 +283,64 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
         mass,
         pairs,
         pair_start,
+        in_slot,
         update,
     } = *input;
-    let base = pair_start[lo] as usize;
+    let (base, end) = (pair_start[lo] as usize, pair_start[hi] as usize);
+    // the owners' sums over their pairs, in tag order: sum F, sum -R_a tor
+    output.owned_force.fill([0.0; 3]);
+    output.owned_torque.fill([0.0; 3]);
     let mut touching = 0u64;
-    for a in lo..hi {
-        let (ra, ma) = (radius[a], mass[a]);
-        // the owner's sums over its pairs: sum F, sum -R_a tor
-        let mut f = [0.0f64; 3];
-        let mut t = [0.0f64; 3];
-        for p in pair_start[a] as usize..pair_start[a + 1] as usize {
-            let b = pairs[p][1] as usize;
-            let q = p - base;
-            // del = x_a - x_b, minimum image
-            let del = domain.min_image([x[a][0] - x[b][0], x[a][1] - x[b][1], x[a][2] - x[b][2]]);
-            let rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-            let radsum = ra + radius[b];
+    let mut candidates = [0u32; SCAN_BLOCK];
+    for block in (base..end).step_by(SCAN_BLOCK) {
+        let mut n = 0;
+        let stop = end.min(block + SCAN_BLOCK);
+        for (p, &[a, b]) in (block..stop).zip(&pairs[block..stop]) {
+            let (_, rsq, radsum) = separation(domain, x, radius, a as usize, b as usize);
+            candidates[n] = p as u32;
+            n += ((rsq < radsum * radsum) | output.touch[p - base]) as usize;
+        }
+        for &p in &candidates[..n] {
+            let (p, q) = (p as usize, p as usize - base);
+            let [a, b] = pairs[p];
+            let (a, b) = (a as usize, b as usize);
+            let (del, rsq, radsum) = separation(domain, x, radius, a, b);
             if rsq < radsum * radsum {
                 let c = contact::pair(
                     law,
                     del,
                     rsq,
-                    (ra, radius[b]),
+                    (radius[a], radius[b]),
                     (v[a], v[b]),
                     (w[a], w[b]),
-                    (ma, mass[b]),
+                    (mass[a], mass[b]),
                     &mut output.shear[q],
                     update,
                 );
-                output.out[q] = PairOut {
-                    force: c.force,
-                    tor: c.tor,
-                };
+                output.incoming.set(
+                    in_slot[p] as usize,
+                    PairOut {
+                        force: c.force,
+                        tor: c.tor,
+                    },
+                );
                 output.touch[q] = true;
                 touching += 1;
-                add_contact(&mut f, &mut t, ra, &c);
-            } else if output.touch[q] {
+                add_contact(
+                    &mut output.owned_force[a - lo],
+                    &mut output.owned_torque[a - lo],
+                    radius[a],
+                    &c,
+                );
+            } else {
                 // the contact ended: its history is dropped
-                output.out[q] = PairOut::default();
+                output
+                    .incoming
+                    .set(in_slot[p] as usize, PairOut::default());
                 output.shear[q] = [0.0; 3];
                 output.touch[q] = false;
             }
         }
-        output.owned_force[a - lo] = f;
-        output.owned_torque[a - lo] = t;
     }
     touching
 }
@@ -333,7 +401,7 @@ pub fn particle_pass(
         ..
     } = bodies;
     let (radius, mass, kick_v, kick_w, x_build) = (&*radius, &*mass, &*kick_v, &*kick_w, &*x_build);
-    let outs = &list.out;
+    let (incoming, in_start) = (&list.incoming, &list.in_start);
     let (owned_force, owned_torque) = (&list.owned_force, &list.owned_torque);
     x.par_chunks_mut(PARTICLE_CHUNK)
         .zip(v.par_chunks_mut(PARTICLE_CHUNK))
@@ -346,22 +414,29 @@ pub fn particle_pass(
         .enumerate()
         .map(|(c, (((((((xs, vs), ws), fs), ts), wss), fss), wfs))| {
             let mut tally = Tally::default();
-            for k in 0..xs.len() {
-                let i = c * PARTICLE_CHUNK + k;
-                let (r, m) = (radius[i], mass[i]);
-                // F = (sum over the lower part of the row, tag order, of -F_pair)
-                //   + (sum over the owned pairs, formed by the pair kernel); tau alike with
-                //   -R_i tor
+            // the block's particles lo .. lo + n in every array (k indexes them all)
+            let (lo, n) = (c * PARTICLE_CHUNK, xs.len());
+            let (vs, ws, fs, ts) = (&mut vs[..n], &mut ws[..n], &mut fs[..n], &mut ts[..n]);
+            let (wss, fss, wfs) = (&mut wss[..n], &mut fss[..n], &mut wfs[..n]);
+            let (radius, mass) = (&radius[lo..lo + n], &mass[lo..lo + n]);
+            let (kick_v, kick_w) = (&kick_v[lo..lo + n], &kick_w[lo..lo + n]);
+            let x_build = &x_build[lo..lo + n];
+            let (owned_force, owned_torque) = (&owned_force[lo..lo + n], &owned_torque[lo..lo + n]);
+            let in_start = &in_start[lo..=lo + n];
+            for k in 0..n {
+                let (r, m) = (radius[k], mass[k]);
+                // F = (sum over the lower part of the row, tag order, of -F_pair: the
+                //   incoming slots) + (sum over the owned pairs, formed by the pair kernel);
+                //   tau alike with -R_i tor
                 let mut f = [0.0f64; 3];
                 let mut t = [0.0f64; 3];
-                for &p in list.lower_row(i) {
-                    let o = &outs[p as usize];
+                for o in &incoming[in_start[k] as usize..in_start[k + 1] as usize] {
                     for d in 0..3 {
                         f[d] -= o.force[d];
                         t[d] -= r * o.tor[d];
                     }
                 }
-                let (of, ot) = (&owned_force[i], &owned_torque[i]);
+                let (of, ot) = (&owned_force[k], &owned_torque[k]);
                 for d in 0..3 {
                     f[d] += of[d];
                     t[d] += ot[d];
@@ -436,18 +511,18 @@ pub fn particle_pass(
                 }
                 // final half step: v += (dt/2) F/m, w += (dt/2) tau/I
                 for d in 0..3 {
-                    vs[k][d] += kick_v[i] * f[d];
-                    ws[k][d] += kick_w[i] * t[d];
+                    vs[k][d] += kick_v[k] * f[d];
+                    ws[k][d] += kick_w[k] * t[d];
                 }
                 if pass == Pass::FinalAndNext {
                     drift(
                         domain,
                         bounds,
                         dt,
-                        (kick_v[i], kick_w[i], m),
+                        (kick_v[k], kick_w[k], m),
                         (&mut xs[k], &mut vs[k], &mut ws[k]),
                         (&f, &t),
-                        &x_build[i],
+                        &x_build[k],
                         &mut tally,
                     );
                 }
@@ -485,9 +560,15 @@ fn drift(
     let g = &bounds.gravity;
     tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
     let s = domain.min_image([x[0] - x_build[0], x[1] - x_build[1], x[2] - x_build[2]]);
-    for k in 0..3 {
-        tally.displacement_min[k] = tally.displacement_min[k].min(s[k]);
-        tally.displacement_max[k] = tally.displacement_max[k].max(s[k]);
+    // (a plain comparison: s is never NaN, and the sign of a zero bound does not matter)
+    let bounds = tally.displacement_min.iter_mut().zip(&mut tally.displacement_max);
+    for ((lo, hi), s) in bounds.zip(s) {
+        if s < *lo {
+            *lo = s;
+        }
+        if s > *hi {
+            *hi = s;
+        }
     }
 }
 

@@ -12,7 +12,10 @@
 //!    part (partners of lower tag, whose pairs it does not own) followed by its owned part;
 //!    owned pairs are numbered row by row (particle i owns pair_start[i] .. pair_start[i+1],
 //!    in tag order), and each row entry holds the number of its pair;
-//! 4. the pair state (forces, history, touching) starts empty, with the kept histories put
+//! 4. every particle's *incoming slots*, one per entry of its lower part, in tag order, all
+//!    rows end to end: the pair kernel writes a pair's forces into the other's slot, so that
+//!    the particle pass reads its lower part's forces in one contiguous run;
+//! 5. the pair state (forces, history, touching) starts empty, with the kept histories put
 //!    back by their tags.
 //!
 //! A particle's force is then (sum over its lower part, in tag order, of minus the pair
@@ -158,10 +161,17 @@ pub struct NeighbourList {
     /// part of its force and torque)
     pub owned_force: Vec<[f64; 3]>,
     pub owned_torque: Vec<[f64; 3]>,
-    /// per pair, parallel to `pairs`: the forces of the last evaluation (read by the
-    /// particles' gather), the history s oriented from the owner, and whether it touched
-    /// (kept apart: the pair kernel reads `touch` of every pair, the gather only `out`)
-    pub out: Vec<PairOut>,
+    /// the incoming slots of particle i (one per entry of its lower row, in tag order) are
+    /// in_start[i] .. in_start[i + 1]
+    pub in_start: Vec<u32>,
+    /// per pair: its slot among the other's incoming slots
+    pub in_slot: Vec<u32>,
+    /// per incoming slot: the forces of its pair's last evaluation (zero when not touching),
+    /// written by the pair kernel, read in order by the other's gather
+    pub incoming: Vec<PairOut>,
+    /// per pair, parallel to `pairs`: the history s oriented from the owner, and whether it
+    /// touched (kept apart: the pair kernel reads `touch` of every pair, `shear` only of the
+    /// touching ones)
     pub shear: Vec<[f64; 3]>,
     pub touch: Vec<bool>,
     pub stats: BuildStats,
@@ -226,6 +236,7 @@ impl NeighbourList {
         self.sort_by_cell(bodies, &grid);
         self.list_rows(bodies, domain, &grid, skin);
         self.number_pairs(bodies);
+        self.number_incoming();
         self.put_back(bodies);
         self.stats = BuildStats {
             pairs: self.pairs.len(),
@@ -417,13 +428,36 @@ impl NeighbourList {
             });
     }
 
+    /// Lay the lower rows end to end as the incoming slots, and give every pair its slot.
+    fn number_incoming(&mut self) {
+        let n = self.lower.len();
+        self.in_start.clear();
+        self.in_start.reserve(n + 1);
+        let mut total = 0u32;
+        for &l in &self.lower {
+            self.in_start.push(total);
+            total += l;
+        }
+        self.in_start.push(total);
+        // every pair gets exactly one slot (the pair kernel's parallel writes rely on it)
+        assert_eq!(total as usize, self.pairs.len(), "rows are symmetric");
+        self.in_slot.clear();
+        self.in_slot.resize(self.pairs.len(), u32::MAX);
+        for i in 0..n {
+            let row = &self.entries[i * self.stride..i * self.stride + self.lower[i] as usize];
+            for (k, &p) in row.iter().enumerate() {
+                let slot = &mut self.in_slot[p as usize];
+                assert_eq!(*slot, u32::MAX, "one slot per pair");
+                *slot = self.in_start[i] + k as u32;
+            }
+        }
+    }
+
     /// Empty pair state, with the kept histories put back by tags.
     fn put_back(&mut self, bodies: &Bodies) {
         let np = self.pairs.len();
-        for v in [&mut self.out] {
-            v.clear();
-            v.resize(np, PairOut::default());
-        }
+        self.incoming.clear();
+        self.incoming.resize(np, PairOut::default());
         self.shear.clear();
         self.shear.resize(np, [0.0; 3]);
         self.touch.clear();
@@ -457,10 +491,10 @@ impl NeighbourList {
         &self.entries[i * self.stride..i * self.stride + self.row_len[i] as usize]
     }
 
-    /// The lower part of row i: the pairs of its partners of lower tag, in tag order.
+    /// The forces of pair p's last evaluation (zero when not touching).
     #[inline]
-    pub fn lower_row(&self, i: usize) -> &[u32] {
-        &self.entries[i * self.stride..i * self.stride + self.lower[i] as usize]
+    pub fn pair_out(&self, p: usize) -> &PairOut {
+        &self.incoming[self.in_slot[p] as usize]
     }
 }
 
@@ -554,7 +588,10 @@ mod tests {
                     assert_eq!(lower, t < b.tag[i]);
                     assert!(last.is_none_or(|l| l < t), "rows sorted by tag");
                     last = Some(t);
-                    if !lower {
+                    if lower {
+                        let slot = list.in_start[i] as usize + k;
+                        assert_eq!(list.in_slot[e as usize] as usize, slot);
+                    } else {
                         let p = e as usize;
                         assert!(
                             (list.pair_start[i] as usize..list.pair_start[i + 1] as usize)
