@@ -334,9 +334,7 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
                 );
             } else {
                 // the contact ended: its history is dropped
-                output
-                    .incoming
-                    .set(in_slot[p] as usize, PairOut::default());
+                output.incoming.set(in_slot[p] as usize, PairOut::default());
                 output.shear[q] = [0.0; 3];
                 output.touch[q] = false;
             }
@@ -561,7 +559,10 @@ fn drift(
     tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
     let s = domain.min_image([x[0] - x_build[0], x[1] - x_build[1], x[2] - x_build[2]]);
     // (a plain comparison: s is never NaN, and the sign of a zero bound does not matter)
-    let bounds = tally.displacement_min.iter_mut().zip(&mut tally.displacement_max);
+    let bounds = tally
+        .displacement_min
+        .iter_mut()
+        .zip(&mut tally.displacement_max);
     for ((lo, hi), s) in bounds.zip(s) {
         if s < *lo {
             *lo = s;
