@@ -20,17 +20,7 @@ pub fn params(kn: f64, width: f64, span: f64, length: f64) -> DemParams {
 
 /// A particle at rest at `x` with velocity `v`.
 pub fn body(d: f64, x: [f64; 3], v: [f64; 3], w: [f64; 3]) -> BodyState {
-    BodyState {
-        diameter: d,
-        position: x,
-        velocity: v,
-        spin: w,
-        force: [0.0; 3],
-        torque: [0.0; 3],
-        wall_shear: [0.0; 3],
-        floor_shear: [0.0; 3],
-        position_at_build: x,
-    }
+    BodyState::fresh(d, x, v, w)
 }
 
 /// About `n` particles of the mix on a jittered simple cubic lattice filling the channel,

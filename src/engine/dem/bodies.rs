@@ -28,6 +28,29 @@ pub struct BodyState {
     pub position_at_build: [f64; 3],
 }
 
+impl BodyState {
+    /// A particle of diameter d at x with velocity v and spin w, before any force evaluation:
+    /// no force, torque or contact history, its list-build position x.
+    pub fn fresh(
+        diameter: f64,
+        position: [f64; 3],
+        velocity: [f64; 3],
+        spin: [f64; 3],
+    ) -> BodyState {
+        BodyState {
+            diameter,
+            position,
+            velocity,
+            spin,
+            force: [0.0; 3],
+            torque: [0.0; 3],
+            wall_shear: [0.0; 3],
+            floor_shear: [0.0; 3],
+            position_at_build: position,
+        }
+    }
+}
+
 /// The particles as arrays in working order.
 #[derive(Clone, Debug, Default)]
 pub struct Bodies {

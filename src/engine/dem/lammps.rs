@@ -401,17 +401,7 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
             };
             atoms.push((
                 id,
-                BodyState {
-                    diameter,
-                    position,
-                    velocity: three(cols.velocity)?,
-                    spin: three(cols.spin)?,
-                    force: [0.0; 3],
-                    torque: [0.0; 3],
-                    wall_shear: [0.0; 3],
-                    floor_shear: [0.0; 3],
-                    position_at_build: position,
-                },
+                BodyState::fresh(diameter, position, three(cols.velocity)?, three(cols.spin)?),
             ));
         }
         atoms.sort_by_key(|a| a.0);
@@ -444,33 +434,19 @@ pub fn read_dump_file(path: &Path) -> anyhow::Result<Vec<DumpFrame>> {
 mod tests {
     use super::*;
 
-    fn state(d: f64, x: [f64; 3], v: [f64; 3], w: [f64; 3]) -> BodyState {
-        BodyState {
-            diameter: d,
-            position: x,
-            velocity: v,
-            spin: w,
-            force: [0.0; 3],
-            torque: [0.0; 3],
-            wall_shear: [0.0; 3],
-            floor_shear: [0.0; 3],
-            position_at_build: x,
-        }
-    }
-
     /// The data file carries every bit of the state: parsed back as LAMMPS does (strtod),
     /// its numbers are the state's.
     #[test]
     fn the_data_file_round_trips_every_bit() {
         let p = DemParams::channel(10.0, 5.0, 12.0, 0.6, 1);
         let s = vec![
-            state(
+            BodyState::fresh(
                 0.9,
                 [0.1 + 1e-17, 3.3333333333333335, 4.9],
                 [1.0 / 3.0, -2e-300, 0.0],
                 [7.0, -1.0 / 7.0, 1e-5],
             ),
-            state(
+            BodyState::fresh(
                 1.1,
                 [11.999999999999998, 0.55, 0.0],
                 [0.0; 3],

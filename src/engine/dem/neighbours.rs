@@ -519,17 +519,7 @@ mod tests {
                     };
                     *xk = lo + rng.random::<f64>() * (domain.extent[k] - lo);
                 }
-                BodyState {
-                    diameter: d,
-                    position: x,
-                    velocity: [0.0; 3],
-                    spin: [0.0; 3],
-                    force: [0.0; 3],
-                    torque: [0.0; 3],
-                    wall_shear: [0.0; 3],
-                    floor_shear: [0.0; 3],
-                    position_at_build: x,
-                }
+                BodyState::fresh(d, x, [0.0; 3], [0.0; 3])
             })
             .collect();
         Bodies::from_states(&states, 1e-4)

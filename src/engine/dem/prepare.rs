@@ -117,17 +117,12 @@ pub fn lattice(params: &DemParams) -> Result<(Vec<BodyState>, Preparation), Stri
                 for c in &mut velocity {
                     *c = INITIAL_SPEED * (2.0 * rng.random::<f64>() - 1.0);
                 }
-                states.push(BodyState {
-                    diameter: diameters[states.len()],
+                states.push(BodyState::fresh(
+                    diameters[states.len()],
                     position,
                     velocity,
-                    spin: [0.0; 3],
-                    force: [0.0; 3],
-                    torque: [0.0; 3],
-                    wall_shear: [0.0; 3],
-                    floor_shear: [0.0; 3],
-                    position_at_build: position,
-                });
+                    [0.0; 3],
+                ));
             }
         }
     }
