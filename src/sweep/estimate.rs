@@ -19,7 +19,7 @@
 use super::PlannedJob;
 use super::store::{self, JobResult, JobState};
 use super::tables::GatheredJob;
-use crate::engine::Clock;
+use crate::engine::{Clock, Progress};
 
 /// The estimate of one job.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,13 +99,23 @@ pub fn estimate(
         .iter()
         .filter_map(|j| j.result.as_ref().map(|r| (j.job, r)))
         .collect();
+    // each unfinished job's checkpoint, read once: its clocks and the wall seconds to reach it
+    let measured: Vec<Option<(Progress, f64)>> = jobs
+        .iter()
+        .map(|j| match j.state {
+            JobState::Running | JobState::Partial(_) => {
+                store::checkpoint_measure(&sweep_dir(j.job))
+            }
+            _ => None,
+        })
+        .collect();
     // unfinished jobs that got somewhere: the work to their checkpoint over the wall seconds
     // they had run to reach it
     let checkpointed: Vec<(f64, f64)> = jobs
         .iter()
-        .filter(|j| matches!(j.state, JobState::Running | JobState::Partial(_)))
-        .filter_map(|j| {
-            let (progress, secs) = store::checkpoint_measure(&sweep_dir(j.job))?;
+        .zip(&measured)
+        .filter_map(|(j, m)| {
+            let (progress, secs) = (*m)?;
             let clock = work_clock(j.job);
             let work = (j.job.params.def().work)(&j.job.params.values, clock, progress.on(clock));
             (work > 0.0 && secs > 0.0).then_some((work, secs))
@@ -143,18 +153,22 @@ pub fn estimate(
         None => (1.0, String::new()),
     };
     // collisions per particle per time unit, from every job that got somewhere
-    let progress_of = |j: &GatheredJob| match &j.state {
+    let progress_of = |j: &GatheredJob, m: &Option<(Progress, f64)>| match &j.state {
         JobState::Done => j
             .result
             .as_ref()
             .map(|r| (r.collisions_per_particle, r.time)),
         JobState::Partial(p) => Some((p.collisions_per_particle, p.time)),
-        JobState::Running => store::checkpoint_progress(&sweep_dir(j.job))
-            .map(|p| (p.collisions_per_particle, p.time)),
+        JobState::Running => m.map(|(p, _)| (p.collisions_per_particle, p.time)),
         _ => None,
     };
     let ratio = |p: Option<(f64, f64)>| p.and_then(|(c, t)| (t > 0.0 && c > 0.0).then(|| c / t));
-    let sweep_cpp_per_time = median(jobs.iter().filter_map(|j| ratio(progress_of(j))).collect());
+    let sweep_cpp_per_time = median(
+        jobs.iter()
+            .zip(&measured)
+            .filter_map(|(j, m)| ratio(progress_of(j, m)))
+            .collect(),
+    );
     // runs until steady: where the finished ones stopped, as a fraction of their cap
     let stopped_fraction = median(
         finished
@@ -165,12 +179,13 @@ pub fn estimate(
     );
     let estimates = jobs
         .iter()
-        .map(|j| {
+        .zip(&measured)
+        .map(|(j, m)| {
             let p = &j.job.params;
             let def = p.def();
             let run = &p.run;
             let clock = run.clock();
-            let cpp_per_time = ratio(progress_of(j)).or(sweep_cpp_per_time);
+            let cpp_per_time = ratio(progress_of(j, m)).or(sweep_cpp_per_time);
             // work of a run to `reading` on the run's clock
             let work_to = |reading: f64| match (clock, cpp_per_time) {
                 (Clock::Time, Some(rate)) if def.has_clock(Clock::CollisionsPerParticle) => {
@@ -203,8 +218,7 @@ pub fn estimate(
             let done_so_far = match &j.state {
                 JobState::Done => f64::INFINITY,
                 JobState::Partial(pr) => work_to(pr.on(clock)),
-                JobState::Running => store::checkpoint_progress(&sweep_dir(j.job))
-                    .map_or(0.0, |pr| work_to(pr.on(clock))),
+                JobState::Running => m.map_or(0.0, |(pr, _)| work_to(pr.on(clock))),
                 _ => 0.0,
             };
             let remaining = (expected - done_so_far).max(0.0);
