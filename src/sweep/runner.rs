@@ -206,9 +206,9 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         )
     };
     say(format!(
-        "sweep {}: {} jobs selected, {} done, {} to run{} on {} threads (results in {})",
+        "sweep {}: {} selected, {} done, {} to run{} on {} (results in {})",
         sweep.name,
-        selected.len(),
+        counted(selected.len(), "job"),
         summary.already_done,
         todo.len(),
         if summary.outdated > 0 {
@@ -216,7 +216,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         } else {
             String::new()
         },
-        opts.threads,
+        counted(opts.threads, "thread"),
         dirs.tables.display()
     ));
 
@@ -499,4 +499,13 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         summary.busy
     ));
     Ok(summary)
+}
+
+/// "1 job", "2 jobs": a count with its noun in the right number.
+fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
 }
