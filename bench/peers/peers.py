@@ -197,18 +197,24 @@ def granflow_dem(binary, workload, threads, steps, warmup, cache, extra=()):
     return r["particle_steps_per_s"], rss, r["n"], r.get("contacts_per_particle")
 
 
-def lammps_dem_rate(lmp, directory):
-    """One serial LAMMPS run of in.dem: (particle-steps/s from its `Loop time`, peak RSS)."""
-    log = Path(directory) / "log.lammps"
-    _, rss = timed_child([lmp, "-in", "in.dem", "-log", str(log), "-screen", "none", "-nocite"],
-                         cwd=directory, env=one_core_env())
+def lammps_dem_rate(lmp, directory, ranks=1, mpirun=None):
+    """One LAMMPS run of in.dem on `ranks` MPI processes (through `mpirun` when more than one):
+    (particle-steps/s from its `Loop time`, peak RSS of the launched process)."""
+    log = Path(directory) / f"log.{ranks}.lammps"
+    cmd = [lmp, "-in", "in.dem", "-log", str(log), "-screen", "none", "-nocite"]
+    env = one_core_env()
+    if ranks > 1:
+        cmd = [mpirun, "-np", str(ranks), *cmd]
+        # Open MPI refuses to start as root unless told (a container's usual user)
+        env["OMPI_ALLOW_RUN_AS_ROOT"] = env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] = "1"
+    _, rss = timed_child(cmd, cwd=directory, env=env)
     text = log.read_text()
     m = re.search(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", text)
     if not m:
         sys.exit(f"{log}: no `Loop time` line")
     secs, procs, steps, atoms = float(m.group(1)), int(m.group(2)), int(m.group(3)), int(m.group(4))
-    if procs != 1:
-        sys.exit(f"{log}: LAMMPS ran on {procs} processes, not 1")
+    if procs != ranks:
+        sys.exit(f"{log}: LAMMPS ran on {procs} processes, not {ranks}")
     return atoms * steps / secs, rss, atoms
 
 
@@ -221,6 +227,9 @@ def lammps_dem(args, results):
         sys.exit(f"{args.lmp}: no LAMMPS binary (Debian: apt-get install lammps; or --lmp PATH)")
     chosen = [w for w in LAMMPS_DEM_WORKLOADS if not args.workload or args.workload in w]
     cache = args.dem_cache or str(ROOT / "target" / "bench-cache")
+    mpirun = shutil.which(args.mpirun) if args.mpirun else None
+    if args.mpirun and not mpirun:
+        sys.exit(f"{args.mpirun}: not found (Debian: apt-get install openmpi-bin; or --mpirun '' to skip LAMMPS on 2 ranks)")
     with tempfile.TemporaryDirectory() as work:
         print("| workload | LAMMPS particle-steps/s (median, range) | granflow 1 thread | granflow / LAMMPS | rounds ahead |")
         print("|---|---|---|---|---|")
@@ -230,12 +239,16 @@ def lammps_dem(args, results):
             # the warmed state, written once by granflow (prepared and cached on first use)
             granflow_dem(args.granflow, name, 1, args.steps, args.warmup, cache,
                          ["--lammps-out", str(directory)])
-            peer, ours, ours2, rss = [], [], [], {"lammps": [], "granflow-1": [], "granflow-2": []}
+            peer, ours, ours2, peer2 = [], [], [], []
+            rss = {"lammps": [], "granflow-1": [], "granflow-2": []}
             n = None
             for r in range(args.rounds):
                 g1, m1, n, contacts = granflow_dem(args.granflow, name, 1, args.steps, args.warmup, cache)
                 l1, ml, atoms = lammps_dem_rate(args.lmp, directory)
                 g2, m2, _, _ = granflow_dem(args.granflow, name, 2, args.steps, args.warmup, cache)
+                if mpirun:
+                    l2, _, _ = lammps_dem_rate(args.lmp, directory, 2, mpirun)
+                    peer2.append(l2)
                 if atoms != n:
                     sys.exit(f"{name}: LAMMPS has {atoms} atoms, granflow {n}")
                 ours.append(g1)
@@ -244,22 +257,29 @@ def lammps_dem(args, results):
                 rss["granflow-1"].append(m1)
                 rss["lammps"].append(ml)
                 rss["granflow-2"].append(m2)
-                print(f"  round {r + 1}: LAMMPS {l1:.4g}, granflow 1 thread {g1:.4g}, 2 threads {g2:.4g} "
-                      f"particle-steps/s ({contacts:.2f} contacts per particle)", file=sys.stderr, flush=True)
+                two_ranks = f", LAMMPS 2 ranks {peer2[-1]:.4g}" if mpirun else ""
+                print(f"  round {r + 1}: LAMMPS {l1:.4g}, granflow 1 thread {g1:.4g}, 2 threads {g2:.4g}"
+                      f"{two_ranks} particle-steps/s ({contacts:.2f} contacts per particle)",
+                      file=sys.stderr, flush=True)
             summary(f"{name} (N = {n}, {args.steps} steps)", "particle-steps/s", peer, ours, results)
             ratios = [b / a for a, b in zip(ours, ours2)]
             per_particle = {k: statistics.median(v) / n for k, v in rss.items()}
-            scaling.append((name, ours, ours2, ratios, per_particle))
+            peer_ratios = [b / a for a, b in zip(peer, peer2)]
+            scaling.append((name, ours, ours2, ratios, per_particle, peer_ratios))
             results[-1]["granflow_2_threads"] = ours2
             results[-1]["thread_scaling"] = ratios
+            if mpirun:
+                results[-1]["lammps_2_ranks"] = peer2
+                results[-1]["lammps_rank_scaling"] = peer_ratios
             results[-1]["peak_rss_bytes_per_particle"] = per_particle
         print()
-        print("| workload | granflow 1 thread | 2 threads | 2 / 1 threads (median, range) | peak RSS / N: LAMMPS, granflow 1, 2 threads |")
-        print("|---|---|---|---|---|")
+        print("| workload | granflow 1 thread | 2 threads | 2 / 1 threads (median, range) | LAMMPS 2 / 1 MPI ranks (median, range) | peak RSS / N: LAMMPS, granflow 1, 2 threads |")
+        print("|---|---|---|---|---|---|")
         m = lambda v: f"{v / 1e6:.3g} M"
-        for name, one, two, ratios, mem in scaling:
+        spread = lambda v: f"**{statistics.median(v):.2f}** ({min(v):.2f}-{max(v):.2f})" if v else "not run"
+        for name, one, two, ratios, mem, peer_ratios in scaling:
             print(f"| {name} | {m(statistics.median(one))} | {m(statistics.median(two))} "
-                  f"| **{statistics.median(ratios):.2f}** ({min(ratios):.2f}-{max(ratios):.2f}) "
+                  f"| {spread(ratios)} | {spread(peer_ratios)} "
                   f"| {mem['lammps']:.0f}, {mem['granflow-1']:.0f}, {mem['granflow-2']:.0f} bytes |")
 
 
@@ -268,6 +288,7 @@ def main():
     p.add_argument("peer", choices=["edmd", "lammps-dem"])
     p.add_argument("--source", help="the peer's source tree (edmd)")
     p.add_argument("--lmp", default="/usr/bin/lmp", help="the LAMMPS binary (lammps-dem)")
+    p.add_argument("--mpirun", default="mpirun", help="MPI launcher for LAMMPS on 2 ranks, its scaling beside granflow's on 2 threads (lammps-dem; '' skips it)")
     p.add_argument("--steps", type=int, default=2000, help="timed steps (lammps-dem)")
     p.add_argument("--warmup", type=int, default=100000, help="granflow flow steps before the timed ones (lammps-dem; the state is cached)")
     p.add_argument("--dem-cache", help="granflow's cache of prepared states (lammps-dem; default target/bench-cache)")
