@@ -16,6 +16,10 @@
 //! - [`report`]: per-job figures and the one-file HTML report of a sweep.
 //! - [`cli`]: the command-line front end.
 
+// Loops over the three components (`for d in 0..3 { f[d] += m g[d] }`) and over axes are
+// written with their index, as the equations are; clippy's iterator form would hide that.
+#![allow(clippy::needless_range_loop)]
+
 pub mod analysis;
 pub mod cli;
 pub mod engine;

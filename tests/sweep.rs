@@ -476,7 +476,7 @@ fn job_dirs(results: &Path) -> Vec<PathBuf> {
 }
 
 fn run_to_end(file: &Path, results: &Path, threads: &str) {
-    granflow_ok(&run_args(&file, &results, &["--threads", threads]));
+    granflow_ok(&run_args(file, results, &["--threads", threads]));
 }
 
 /// kill -9 a real `granflow run` midway, rerun it: complete tables, no job started twice,

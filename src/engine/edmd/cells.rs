@@ -70,7 +70,7 @@ impl AxisCells {
         if n < 0 {
             self.periodic.then(|| (self.count - 1, -self.extent))
         } else if n as usize >= self.count {
-            self.periodic.then(|| (0, self.extent))
+            self.periodic.then_some((0, self.extent))
         } else {
             Some((n as usize, 0.0))
         }

@@ -110,11 +110,11 @@ impl ReferenceEngine {
                             let v: [f64; 3] = std::array::from_fn(|a| {
                                 self.velocities[i][a] - self.velocities[j][a]
                             });
-                            if let Some(t) = pair_contact_time(r, v) {
-                                if t < best {
-                                    best = t;
-                                    next = Some(Next::Pair(i, j));
-                                }
+                            if let Some(t) = pair_contact_time(r, v)
+                                && t < best
+                            {
+                                best = t;
+                                next = Some(Next::Pair(i, j));
                             }
                         }
                     }

@@ -92,6 +92,7 @@ fn occupancy(v: f64) -> bool {
     (0.0..=6.0).contains(&v)
 }
 
+#[allow(clippy::too_many_arguments)] // one argument per column of the parameter table
 const fn param(
     name: &'static str,
     symbol: &'static str,
