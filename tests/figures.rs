@@ -262,6 +262,7 @@ fn decade_plot(log_y: bool) -> CurvePlot {
         y: "flow_rate".into(),
         by: None,
         x_label: "Kn (knudsen_number)".into(),
+        y_label: "flow_rate [u_c W]".into(),
         by_symbol: None,
         log_x: true,
         log_y,

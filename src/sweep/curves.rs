@@ -92,6 +92,8 @@ pub struct CurvePlot {
     pub by: Option<String>,
     /// the x axis label: symbol, unit and key, e.g. "Kn (knudsen_number)"
     pub x_label: String,
+    /// the y axis label: the column and its unit, e.g. "slip_velocity [sqrt(g d)]"
+    pub y_label: String,
     /// the symbol the legend names the curves by, e.g. "e_n" (the key when it has none)
     pub by_symbol: Option<String>,
     pub log_x: bool,
@@ -285,6 +287,10 @@ impl CurvePlot {
             y: y.into(),
             by: by.map(str::to_string),
             x_label: super::phase::axis_label(engine, x),
+            y_label: match super::tables::column_docs::unit_for("jobs", engine.name, y) {
+                Some(unit) => format!("{y} [{unit}]"),
+                None => y.to_string(),
+            },
             by_symbol: by.map(|b| super::phase::symbol_of(engine, b)),
             log_x: false,
             log_y: false,
@@ -473,7 +479,7 @@ impl CurvePlot {
                 let mut mesh = chart.configure_mesh();
                 crate::figure::mesh_style(&mut mesh, s, LABEL)
                     .x_desc(self.x_label.clone())
-                    .y_desc(self.y.clone())
+                    .y_desc(self.y_label.clone())
                     .x_label_formatter(&x_format)
                     .y_label_formatter(&y_format)
                     .draw()?;

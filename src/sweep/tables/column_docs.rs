@@ -50,6 +50,26 @@ pub fn lookup(table: &str, engine: &str, column: &str) -> Option<&'static Column
         .or_else(|| docs.iter().find(named))
 }
 
+/// The unit of `column` of `table` for `engine` as an axis label shows it: the engine's own
+/// part of a unit documented per engine (`sqrt(g d) (edmd); u_c (dsmc)` gives `sqrt(g d)` for
+/// edmd), none for pure numbers (`1`) and text (`-`).
+pub fn unit_for(table: &str, engine: &str, column: &str) -> Option<String> {
+    let unit = lookup(table, engine, column)?.unit.trim();
+    let own = format!("({engine})");
+    let unit = if unit.contains(';') {
+        unit.split(';')
+            .map(str::trim)
+            .find(|part| part.ends_with(&own))?
+    } else {
+        unit
+    };
+    let unit = unit.trim_end_matches(&own).trim();
+    match unit {
+        "" | "1" | "-" => None,
+        unit => Some(unit.to_string()),
+    }
+}
+
 /// The documented columns of a markdown text (see the module doc).
 pub fn parse(text: &str) -> Vec<ColumnDoc> {
     let mut out = Vec::new();
@@ -128,5 +148,24 @@ mod tests {
         assert_eq!(mean.unit, "sites per step (lga)");
         let dsmc = lookup("jobs", "dsmc", "mean_velocity").unwrap();
         assert_eq!(dsmc.unit, "u_c");
+    }
+
+    #[test]
+    fn axis_units_take_the_engines_own_part() {
+        assert_eq!(
+            unit_for("jobs", "edmd", "slip_velocity").as_deref(),
+            Some("sqrt(g d)")
+        );
+        assert_eq!(
+            unit_for("jobs", "dsmc", "slip_velocity").as_deref(),
+            Some("u_c")
+        );
+        assert_eq!(
+            unit_for("jobs", "lga", "mean_velocity").as_deref(),
+            Some("sites per step")
+        );
+        assert_eq!(unit_for("jobs", "edmd", "restitution"), None);
+        assert_eq!(unit_for("jobs", "edmd", "label"), None);
+        assert_eq!(unit_for("jobs", "edmd", "no_such_column"), None);
     }
 }
