@@ -127,10 +127,27 @@ def chapter4_dense(results):
         f"SELECT c_pair, avg(c) FROM {c} WHERE job_id IN (SELECT job_id FROM {done}) "
         f"AND c_bin = (SELECT max(c_bin) / 2 FROM {c}) AND c_r BETWEEN 1.0 AND 2.0 "
         "AND c_pair IN ('xx', 'yy', 'zz') GROUP BY c_pair ORDER BY c_pair").fetchall()
+    # a number is a result only where the method was valid: steady, and the collapse guard
+    # (the TC model) did not change the physics
+    validity = con.execute(
+        f"SELECT steady, collapse_guard_valid, momentum_balance, momentum_balance_error, "
+        f"energy_balance, energy_balance_error, window_tc_elastic_fraction, "
+        f"window_suppressed_dissipation FROM {done}").fetchall()
+    measured = ("g(r) maxima at r/d = " + ", ".join(f"{r:.2f} ({v:.2f})" for r, v in peaks[:6]) +
+                "; centre slab, 1 <= r/d <= 2: " + ", ".join(f"C_{p} = {v:.3g}" for p, v in centre))
+    invalid = [v for v in validity if not (v[0] and v[1])]
+    if not validity:
+        verdict = "not run yet"
+    elif invalid:
+        st, guard, mb, mbe, eb, ebe, tc, sup = invalid[0]
+        verdict = (f"not a result: the run is {'steady' if st else 'not steady'} (momentum balance "
+                   f"{mb:.3f} +- {mbe:.3f}, energy balance {eb:.3f} +- {ebe:.3f}) and its collapse "
+                   f"guard {'held' if guard else 'changed the physics'} ({100 * tc:.0f} % of the "
+                   f"pair collisions made elastic, {100 * sup:.1f} % of the dissipation suppressed)")
+    else:
+        verdict = "see the numbers"
     return [("phi = 0.5: g(r) peaks near integer r/d, C_xx ~ 0 while C_yy, C_zz significant at the centre",
-             "g(r) maxima at r/d = " + ", ".join(f"{r:.2f} ({v:.2f})" for r, v in peaks[:6]) +
-             "; centre slab, 1 <= r/d <= 2: " + ", ".join(f"C_{p} = {v:.3g}" for p, v in centre),
-             "see the numbers")]
+             measured, verdict)]
 
 
 def main():
