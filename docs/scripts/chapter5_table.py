@@ -12,18 +12,14 @@ not reached a milestone (or not finished) say so; nothing is filled in that was 
 Then the sweep's total wall time summed over its jobs.
 """
 import sys
-from pathlib import Path
 
 import duckdb
 
+# the scripts' one reader of a gathered table (this directory is on the path of a script run
+# from it)
+from thesis_statements import table
+
 MILESTONES = [4000, 8000, 10000, 11000, 14000]
-
-
-def table(results, name):
-    path = Path(results) / f"{name}.parquet"
-    if not path.exists():
-        sys.exit(f"{path}: missing (run `granflow gather {results}` first)")
-    return f"read_parquet('{path}')"
 
 
 def number(x):
