@@ -153,6 +153,9 @@ pub struct DenseSummary {
     pub plug_start: f64,
     pub loose_width: f64,
     pub plug_width: f64,
+    /// mean phi of the plug's folded bins (NaN: no plug)
+    #[serde(default = "crate::analysis::nan")]
+    pub plug_volume_fraction: f64,
     /// Q6 of the bonds in `q6_region`, pooled over the window's snapshots
     pub q6_plug: f64,
     pub q6_plug_error: f64,
@@ -199,6 +202,7 @@ impl Default for DenseSummary {
             plug_start: nan,
             loose_width: nan,
             plug_width: nan,
+            plug_volume_fraction: nan,
             q6_plug: nan,
             q6_plug_error: nan,
             local_q6_plug: nan,
@@ -534,29 +538,13 @@ pub fn analyse(records: &[Record], settings: &DenseSettings) -> DenseAnalysis {
         &whole.iter().map(|f| f.shear_rate).collect::<Vec<_>>(),
         true,
     );
-    // the folded shear's error: the block SE of the folded block values
-    let shear_error: Vec<f64> = (0..shear.len())
-        .map(|k| {
-            let vals: Vec<f64> = parts
-                .iter()
-                .map(|(_, p)| fold(&p.iter().map(|f| f.shear_rate).collect::<Vec<_>>(), true)[k])
-                .collect();
-            standard_error(&vals)
-        })
-        .collect();
     let half = phi.len();
-    let z = zones::zones(
-        &centres[..half],
-        &g.edges[..half],
-        &phi,
-        &shear,
-        &shear_error,
-        width,
-    );
+    let z = zones::zones(&centres[..half], &g.edges[..half], &phi, &shear, width);
     s.dense_start = z.dense_start;
     s.plug_start = z.plug_start;
     s.loose_width = z.loose_width;
     s.plug_width = z.plug_width;
+    s.plug_volume_fraction = z.plug_volume_fraction;
     // Q6 of the plug (else of the dense zone), with the block error
     let (region, from) = q6_region(&z);
     s.q6_region = region.into();
