@@ -126,7 +126,11 @@ fn plug_bins(
     let dense_enough = phi_p + PLUG_PHI_ERRORS * error.max(0.0) >= PHI_PLUG;
     // bin widths (the central bin counts half of its width when it straddles W/2)
     let bin_width = |b: usize| {
-        let upper = if b + 1 < edges.len() { edges[b + 1] } else { width / 2.0 };
+        let upper = if b + 1 < edges.len() {
+            edges[b + 1]
+        } else {
+            width / 2.0
+        };
         upper.min(width / 2.0) - edges[b]
     };
     // mean |du_y/dx| over a range of bins, weighted by their widths
@@ -254,8 +258,7 @@ mod tests {
         let (centres, edges) = wide();
         let ramp = [0.36, 0.578, 0.588, 0.598, 0.608, 0.618, 0.628];
         let frozen = [
-            0.643, 0.623, 0.63, 0.652, 0.629, 0.643, 0.612, 0.634, 0.617, 0.645, 0.626, 0.618,
-            0.64,
+            0.643, 0.623, 0.63, 0.652, 0.629, 0.643, 0.612, 0.634, 0.617, 0.645, 0.626, 0.618, 0.64,
         ];
         let phi: Vec<f64> = ramp.iter().chain(&frozen).copied().collect();
         let mut shear = vec![3.5, 2.1, 0.75, 0.37, 0.19, 0.09, 0.04];
