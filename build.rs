@@ -1,5 +1,10 @@
 //! Embeds the commit granflow is built from (`GRANFLOW_COMMIT`: `git describe`-like short hash,
 //! `-dirty` with uncommitted changes, "unknown" outside a git checkout) for provenance.
+//!
+//! The script reruns when the commit or the tree can have changed: the files git keeps HEAD,
+//! the branch and the index in (asked from git, so that a linked worktree, whose `.git` is a
+//! file, watches its own), and the sources (an unstaged edit makes the build dirty). Without
+//! them a build sharing its target directory with another checkout kept that checkout's stamp.
 
 use std::process::Command;
 
@@ -20,20 +25,24 @@ fn main() {
         _ => "unknown".to_string(),
     };
     println!("cargo:rustc-env=GRANFLOW_COMMIT={commit}");
-    // rebuild when HEAD moves or the index changes (a commit, a checkout, staged edits)
-    for path in [".git/HEAD", ".git/index"] {
-        if std::path::Path::new(path).exists() {
-            println!("cargo:rerun-if-changed={path}");
-        }
-    }
-    if let Some(head_ref) = std::fs::read_to_string(".git/HEAD")
-        .ok()
-        .and_then(|h| h.strip_prefix("ref: ").map(|r| r.trim().to_string()))
+    // the files that move with a commit, a checkout or staged edits, wherever git keeps them
+    let mut watched: Vec<String> = ["HEAD", "index", "packed-refs"]
+        .iter()
+        .filter_map(|f| git(&["rev-parse", "--git-path", f]))
+        .collect();
+    if let Some(branch) = git(&["symbolic-ref", "-q", "HEAD"])
+        && let Some(path) = git(&["rev-parse", "--git-path", &branch])
     {
-        let path = format!(".git/{head_ref}");
+        watched.push(path);
+    }
+    for path in watched {
         if std::path::Path::new(&path).exists() {
             println!("cargo:rerun-if-changed={path}");
         }
+    }
+    // edits of tracked files not yet staged change the dirty flag
+    for dir in ["src", "tests", "Cargo.toml", "Cargo.lock"] {
+        println!("cargo:rerun-if-changed={dir}");
     }
     println!("cargo:rerun-if-changed=build.rs");
 }

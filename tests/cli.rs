@@ -566,3 +566,30 @@ fn plan_estimates_from_what_the_sweep_measured() {
     let after = plan("2");
     assert!(after.contains("measured on 1 finished jobs"), "{after}");
 }
+
+/// `granflow --version` names the commit the binary was built from (the stamp every result
+/// carries): in a git checkout, HEAD's short hash (with `-dirty` for uncommitted edits).
+/// A stale stamp, from a build script that did not rerun, names another commit.
+#[test]
+fn version_names_the_commit_built() {
+    let head = Command::new("git")
+        .args(["rev-parse", "--short=12", "HEAD"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output();
+    let Ok(head) = head else {
+        eprintln!("git is not available: nothing to compare with");
+        return;
+    };
+    if !head.status.success() {
+        eprintln!("not a git checkout: nothing to compare with");
+        return;
+    }
+    let head = String::from_utf8_lossy(&head.stdout).trim().to_string();
+    let out = Command::new(BIN).arg("--version").output().unwrap();
+    assert!(out.status.success());
+    let version = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        version.starts_with(&format!("granflow {} ({head}", env!("CARGO_PKG_VERSION"))),
+        "{version} does not name HEAD {head}"
+    );
+}

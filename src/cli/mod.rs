@@ -26,7 +26,12 @@ use std::process::ExitCode;
 
 /// granflow: granular channel flow simulations, analysis and sweeps.
 #[derive(Debug, Parser)]
-#[command(name = "granflow", version, about, long_about = None)]
+#[command(
+    name = "granflow",
+    version = concat!(env!("CARGO_PKG_VERSION"), " (", env!("GRANFLOW_COMMIT"), ")"),
+    about,
+    long_about = None
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
