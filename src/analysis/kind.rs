@@ -78,8 +78,8 @@ pub enum Analysis {
 impl AnalysisKind {
     /// Version of the analysis: bump it when a change alters results of the same records
     /// (results of older versions are flagged as outdated). Structure: 1 until the label
-    /// probabilities and the balances, 2 since. Dense: 3 since Q6 (profile and plug), 4 since the plug is found at
-    /// the change of slope in phi (zones.rs).
+    /// probabilities and the balances, 2 since. Dense: 3 since Q6 (profile and plug), 4 since
+    /// the plug is found at the change of slope in phi (zones.rs).
     pub fn version(self) -> u32 {
         match self {
             AnalysisKind::Structure => 2,

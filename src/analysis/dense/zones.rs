@@ -17,10 +17,11 @@
 //!   (ii) the ramp rises (s > 0), and (iii) they are unsheared: their mean |du_y/dx| (over
 //!   their width) is at most 1 % of that of the shearing zones between the wall and x_b. The
 //!   plateau has at least two folded bins (a plug of at least 3 d_p): one bin alone is always
-//!   constant, and the central one always unsheared (its folded du_y/dx is 0). (A per-bin test, phi >= 0.63 in every bin and du_y/dx within two
-//!   standard errors of zero, finds no plug in such a block: its frozen phi dips below 0.63 in
-//!   some bins, and its slow creep, 0.1 % of the wall's shear rate, is many standard errors
-//!   from zero in a long average.) NaN when there is no plug;
+//!   constant, and the central one always unsheared (its folded du_y/dx is 0). A per-bin
+//!   test, phi >= 0.63 in every bin and du_y/dx within two standard errors of zero, finds no
+//!   plug in such a block: its frozen phi dips below 0.63 in some bins, and its slow creep,
+//!   0.1 % of the wall's shear rate, is many standard errors from zero in a long average.
+//!   NaN when there is no plug;
 //! - the loose zone lies between the wall layer and the dense zone; it is empty when the
 //!   dense zone starts inside the wall layer (as at phi-bar = 0.62 in the paper).
 
@@ -251,8 +252,8 @@ mod tests {
     /// A plug moving as one block keeps the bin-to-bin phi of its frozen packing (+-0.02
     /// about 0.633, some bins below 0.63) and creeps at 0.1 % of the wall's shear rate: the
     /// plug is found where the ramp of phi (0.01 per d_p, reaching 0.633 at x = 7.5) breaks
-    /// into the plateau, as a per-bin rule would not; a plateau that stays below 0.63 is no plug, nor is a ramp without a
-    /// plateau.
+    /// into the plateau, as a per-bin rule would not; a plateau that stays below 0.63 is no
+    /// plug, nor is a ramp without a plateau.
     #[test]
     fn a_frozen_plug_is_found_at_the_change_of_slope() {
         let (centres, edges) = wide();
