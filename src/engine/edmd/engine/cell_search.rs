@@ -3,7 +3,8 @@
 
 use super::*;
 use crate::engine::edmd::motion::PairApproach;
-use crate::engine::edmd::search::KeptPairs;
+use crate::engine::edmd::neighbours::Neighbour;
+use crate::engine::edmd::search::{KeptNeighbours, KeptPairs};
 
 impl EdmdEngine {
     /// Earliest event of particle `i` (whose state is at `now`) after a full search: leaving its
@@ -106,68 +107,84 @@ impl EdmdEngine {
     /// cells of `hood`.
     ///
     /// The walk reads the cells' heads, prefetches each first member's record and link, then
-    /// walks the lists; each member met gets the first, square-root-free pass of the contact
-    /// test at once (see [`Self::earliest_among`]) and is kept when it may touch; the kept
-    /// ones get the second pass when the buffer is full and at the end.
+    /// walks the lists, gathering the members; they get the first, square-root-free pass of
+    /// the contact test two at a time (see [`Self::consider`]) and are kept when they may
+    /// touch; the kept ones get the second pass when the buffer is full and at the end.
     pub(super) fn scan_cells(&self, i: usize, hood: &Neighbourhood, horizon: f64) -> PairCandidate {
         let mut best = PairCandidate::NONE;
         let mut best_dt = horizon - self.now;
         let mut kept = KeptPairs::new();
+        // the members met (all but `i` itself), gathered so that the first pass can take them
+        // two at a time, as a list search does
+        let mut met = KeptNeighbours::new();
         self.cells.walk(
             hood,
             |first| prefetch_at(&self.kin, first as usize),
             |j, image| {
-                let other = j as usize != i;
-                self.consider(i, j, image, other, &mut kept, &mut best, &mut best_dt);
+                if met.push_if(j as usize != i, Neighbour::new(j, image)) {
+                    self.first_pass_in_lanes(i, met.as_slice(), &mut kept, &mut best, &mut best_dt);
+                    met.clear();
+                }
             },
         );
+        self.first_pass_in_lanes(i, met.as_slice(), &mut kept, &mut best, &mut best_dt);
         self.earliest_kept(&kept, &mut best, &mut best_dt);
         best
     }
 
-    /// Update `best` (contact before `now + best_dt`) with the given partners of particle `i`,
-    /// each in its periodic image.
-    ///
-    /// Two passes: the first computes b = r.v, the gap |r|^2 - d^2 and |v|^2 of every pair and
-    /// keeps, without a branch, those that approach (b < 0) soon enough (gap <= -2 b t_max) for
-    /// the horizon when the pair is met; the second takes the square root only for those, when
-    /// the buffer is full and at the end. A later horizon is never longer, so the second pass
-    /// (the whole test of `pair_contact_time_within` on the kept pairs, in their order) decides
-    /// exactly as testing every pair would, bit for bit. `kept` may already hold pairs of the
-    /// first pass (the two-lane pass of a list search).
+    /// The first pass over `partners` of particle `i`, two at a time (see `lanes`) and the
+    /// odd one alone, in their order: the pairs that may touch before `now + best_dt` are
+    /// added to `kept` (a full buffer gets the second pass at once; the caller gives the rest
+    /// theirs).
     #[inline(always)]
-    pub(super) fn earliest_among(
+    pub(super) fn first_pass_in_lanes(
         &self,
         i: usize,
-        partners: impl Iterator<Item = (u32, Image)>,
+        partners: &[Neighbour],
         kept: &mut KeptPairs,
         best: &mut PairCandidate,
         best_dt: &mut f64,
     ) {
-        for (j, image) in partners {
-            self.consider(i, j, image, true, kept, best, best_dt);
+        let mut pairs = partners.chunks_exact(2);
+        for two in &mut pairs {
+            let ids = [two[0].slot(), two[1].slot()];
+            let found = self.approach_two(i, ids, [two[0].image(), two[1].image()], *best_dt);
+            for lane in 0..2 {
+                let entry = (found.pairs[lane], ids[lane], found.collisions[lane]);
+                if kept.push_if(found.may_touch[lane], entry) {
+                    self.earliest_kept(kept, best, best_dt);
+                    kept.clear();
+                }
+            }
         }
-        self.earliest_kept(kept, best, best_dt);
+        for last in pairs.remainder() {
+            self.consider(i, last.slot(), last.image(), kept, best, best_dt);
+        }
     }
 
     /// The first pass for image `image` of particle `j` as a partner of particle `i`: kept
-    /// when it may touch before `now + best_dt` and `wanted`; a full buffer gets the second
-    /// pass at once.
+    /// when it may touch before `now + best_dt`; a full buffer gets the second pass at once.
+    ///
+    /// The contact test has two passes: the first computes b = r.v, the gap |r|^2 - d^2 and
+    /// |v|^2 of every pair and keeps, without a branch, those that approach (b < 0) soon enough
+    /// (gap <= -2 b t_max) for the horizon when the pair is met; the second
+    /// ([`Self::earliest_kept`]) takes the square root only for those, when the buffer is full
+    /// and at the end. A later horizon is never longer, so the second pass (the whole test of
+    /// `pair_contact_time_within` on the kept pairs, in their order) decides exactly as
+    /// testing every pair would, bit for bit.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     fn consider(
         &self,
         i: usize,
         j: u32,
         image: Image,
-        wanted: bool,
         kept: &mut KeptPairs,
         best: &mut PairCandidate,
         best_dt: &mut f64,
     ) {
         let (pair, collisions) = self.approach(i, j, image);
         if kept.push_if(
-            pair.may_touch_within(*best_dt) & wanted,
+            pair.may_touch_within(*best_dt),
             (pair, j, collisions),
         ) {
             self.earliest_kept(kept, best, best_dt);

@@ -167,20 +167,8 @@ impl EdmdEngine {
         }
         // the first pass two partners at a time (see `lanes`), in list order
         let mut kept = KeptPairs::new();
-        let mut pairs = list.chunks_exact(2);
-        for two in &mut pairs {
-            let partners = [two[0].slot(), two[1].slot()];
-            let found = self.approach_two(i, partners, [two[0].image(), two[1].image()], best_dt);
-            for lane in 0..2 {
-                let entry = (found.pairs[lane], partners[lane], found.collisions[lane]);
-                if kept.push_if(found.may_touch[lane], entry) {
-                    self.earliest_kept(&kept, &mut best, &mut best_dt);
-                    kept.clear();
-                }
-            }
-        }
-        let last = pairs.remainder().iter().map(|e| (e.slot(), e.image()));
-        self.earliest_among(i, last, &mut kept, &mut best, &mut best_dt);
+        self.first_pass_in_lanes(i, list, &mut kept, &mut best, &mut best_dt);
+        self.earliest_kept(&kept, &mut best, &mut best_dt);
         let (time, kind) = if best.partner != NO_PARTNER {
             (
                 best.time,
