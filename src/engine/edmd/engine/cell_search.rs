@@ -243,6 +243,13 @@ impl EdmdEngine {
         }
     }
 
+    /// Whether a list search prefetches its partners' records: only when the records do not
+    /// fit in the second-level cache (see [`RECORDS_IN_CACHE`]).
+    #[inline(always)]
+    pub(super) fn prefetches_partners(&self) -> bool {
+        self.kin.len() * std::mem::size_of::<Kinematics>() > RECORDS_IN_CACHE
+    }
+
     /// True with neighbour-list search (else cells).
     #[inline(always)]
     pub(super) fn uses_lists(&self) -> bool {

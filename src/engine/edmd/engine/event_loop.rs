@@ -96,7 +96,7 @@ impl EdmdEngine {
                     self.lists.prefetch(j);
                 }
             }
-            if self.uses_lists() {
+            if self.uses_lists() && self.prefetches_partners() {
                 for entry in self.lists.of(next) {
                     prefetch_at(&self.kin, entry.slot() as usize);
                 }

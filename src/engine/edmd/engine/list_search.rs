@@ -162,8 +162,10 @@ impl EdmdEngine {
         let mut best = PairCandidate::NONE;
         let mut best_dt = exit_time - self.now;
         let list = self.lists.entries(i);
-        for entry in list {
-            prefetch_at(&self.kin, entry.slot() as usize);
+        if self.prefetches_partners() {
+            for entry in list {
+                prefetch_at(&self.kin, entry.slot() as usize);
+            }
         }
         // the first pass two partners at a time (see `lanes`), in list order
         let mut kept = KeptPairs::new();
