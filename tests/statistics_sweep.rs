@@ -88,6 +88,21 @@ fn a_statistics_sweep_resumes_after_kill_9_to_the_same_results_and_draws() {
             assert!(png.is_file(), "{}", png.display());
         }
     }
+    // `gather` names every table it wrote, the statistics' among them, and each is there
+    let said = granflow_ok(&["gather", b_dirs.tables.to_str().unwrap()]);
+    for name in [
+        "jobs",
+        "vdf",
+        "vdf_moments",
+        "pair_correlation",
+        "orientation",
+        "velocity_correlation",
+        "free_paths",
+    ] {
+        let file = format!("{name}.parquet");
+        assert!(said.contains(&file), "gather does not name {file}: {said}");
+        assert!(b_dirs.tables.join(&file).is_file(), "{file} missing");
+    }
     // the report compares the jobs: wall slip and Lambda(0) against e, one curve per beta
     granflow_ok(&["report", b_dirs.tables.to_str().unwrap()]);
     let page = std::fs::read_to_string(b_dirs.tables.join("report.html")).unwrap();

@@ -18,17 +18,7 @@ pub struct GatherArgs {
 pub fn run(args: GatherArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let written = tables::gather(&sweep, &dirs)?;
-    let names: Vec<String> = std::iter::once("jobs".to_string())
-        .chain(
-            sweep
-                .engine()
-                .analysis
-                .tables()
-                .iter()
-                .map(|t| t.name.to_string()),
-        )
-        .map(|n| format!("{n}.parquet"))
-        .collect();
+    let names: Vec<String> = written.tables.iter().map(|n| format!("{n}.parquet")).collect();
     outln!(
         "wrote {} in {}: {} jobs, {} done{}",
         names.join(", "),

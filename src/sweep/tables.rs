@@ -25,6 +25,8 @@ pub struct GatherSummary {
     pub jobs: usize,
     /// of which done
     pub done: usize,
+    /// the tables written (without `.parquet`), `jobs` first
+    pub tables: Vec<String>,
 }
 
 /// One planned job with its state and (when done) its result.
@@ -172,6 +174,7 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
     Ok(GatherSummary {
         jobs: jobs.len(),
         done: jobs.iter().filter(|j| j.result.is_some()).count(),
+        tables: names,
     })
 }
 
