@@ -22,6 +22,7 @@
 
 use super::bodies::Bodies;
 use super::contact::{self, ContactLaw};
+use super::contact_lanes::{BATCH, ContactLanes};
 use super::domain::Domain;
 use super::neighbours::{NeighbourList, PairOut};
 use rayon::prelude::*;
@@ -205,8 +206,9 @@ impl<'a> PairOutput<'a> {
     }
 }
 
-/// Pairs per block of the candidate scan of [`owners`].
-const SCAN_BLOCK: usize = 256;
+/// Pairs per block of the candidate scan of [`owners`]: a block's candidates fill at most one
+/// batch of lanes.
+const SCAN_BLOCK: usize = BATCH;
 
 /// Forces of all listed pairs at the current positions and velocities: each pair's force
 /// and tor into the other's incoming slot, and each owner's sums over its owned pairs (tag
@@ -260,8 +262,10 @@ fn separation(
 
 /// The pairs of owners lo .. hi (their slots start at pair_start[lo]), in blocks: first the
 /// block's candidates, the pairs touching now (r^2 < (R_a + R_b)^2) or at the last evaluation,
-/// collected without a branch on the contact test (most listed pairs do not touch, and which
-/// do is unpredictable); then the candidates' forces, or the end of their contact.
+/// collected with their separations into the lanes without a branch on the contact test
+/// (most listed pairs do not touch, and which do is unpredictable); then the law in all
+/// lanes at once ([`ContactLanes`]), and the results put in place in pair order: the
+/// forces of a touching pair, or the end of a contact.
 fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
     if hi - lo > PARTICLE_CHUNK {
         let mid = lo + (hi - lo) / 2;
@@ -292,55 +296,80 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
     output.owned_torque.fill([0.0; 3]);
     let mut touching = 0u64;
     let mut candidates = [0u32; SCAN_BLOCK];
-    for block in (base..end).step_by(SCAN_BLOCK) {
-        let mut n = 0;
-        let stop = end.min(block + SCAN_BLOCK);
-        for (p, &[a, b]) in (block..stop).zip(&pairs[block..stop]) {
-            let (_, rsq, radsum) = separation(domain, x, radius, a as usize, b as usize);
-            candidates[n] = p as u32;
-            n += ((rsq < radsum * radsum) | output.touch[p - base]) as usize;
-        }
-        for &p in &candidates[..n] {
-            let (p, q) = (p as usize, p as usize - base);
-            let [a, b] = pairs[p];
-            let (a, b) = (a as usize, b as usize);
-            let (del, rsq, radsum) = separation(domain, x, radius, a, b);
-            if rsq < radsum * radsum {
-                let c = contact::pair(
-                    law,
-                    del,
-                    rsq,
-                    (radius[a], radius[b]),
-                    (v[a], v[b]),
-                    (w[a], w[b]),
-                    (mass[a], mass[b]),
-                    &mut output.shear[q],
-                    update,
-                );
-                output.incoming.set(
-                    in_slot[p] as usize,
-                    PairOut {
-                        force: c.force,
-                        tor: c.tor,
-                    },
-                );
-                output.touch[q] = true;
-                touching += 1;
-                add_contact(
-                    &mut output.owned_force[a - lo],
-                    &mut output.owned_torque[a - lo],
-                    radius[a],
-                    &c,
-                );
+    LANES.with_borrow_mut(|lanes| {
+        for block in (base..end).step_by(SCAN_BLOCK) {
+            let mut n = 0;
+            let stop = end.min(block + SCAN_BLOCK);
+            for (p, &[a, b]) in (block..stop).zip(&pairs[block..stop]) {
+                let (del, rsq, radsum) = separation(domain, x, radius, a as usize, b as usize);
+                candidates[n] = p as u32;
+                for k in 0..3 {
+                    lanes.del[k][n] = del[k];
+                }
+                lanes.rsq[n] = rsq;
+                n += ((rsq < radsum * radsum) | output.touch[p - base]) as usize;
+            }
+            for (l, &p) in candidates[..n].iter().enumerate() {
+                let (p, q) = (p as usize, p as usize - base);
+                let [a, b] = pairs[p];
+                let (a, b) = (a as usize, b as usize);
+                let (ra, rb) = (radius[a], radius[b]);
+                for k in 0..3 {
+                    lanes.vr[k][l] = v[a][k] - v[b][k];
+                    lanes.spin[k][l] = ra * w[a][k] + rb * w[b][k];
+                    lanes.shear[k][l] = output.shear[q][k];
+                }
+                lanes.radius[0][l] = ra;
+                lanes.radius[1][l] = rb;
+                lanes.mass[0][l] = mass[a];
+                lanes.mass[1][l] = mass[b];
+            }
+            if update {
+                lanes.evaluate::<true>(law, n);
             } else {
-                // the contact ended: its history is dropped
-                output.incoming.set(in_slot[p] as usize, PairOut::default());
-                output.shear[q] = [0.0; 3];
-                output.touch[q] = false;
+                lanes.evaluate::<false>(law, n);
+            }
+            for (l, &p) in candidates[..n].iter().enumerate() {
+                let (p, q) = (p as usize, p as usize - base);
+                let a = pairs[p][0] as usize;
+                let (ra, rb) = (lanes.radius[0][l], lanes.radius[1][l]);
+                if lanes.rsq[l] < (ra + rb) * (ra + rb) {
+                    let c = contact::ContactForce {
+                        force: std::array::from_fn(|k| lanes.force[k][l]),
+                        tor: std::array::from_fn(|k| lanes.tor[k][l]),
+                    };
+                    output.incoming.set(
+                        in_slot[p] as usize,
+                        PairOut {
+                            force: c.force,
+                            tor: c.tor,
+                        },
+                    );
+                    output.shear[q] = std::array::from_fn(|k| lanes.shear[k][l]);
+                    output.touch[q] = true;
+                    touching += 1;
+                    add_contact(
+                        &mut output.owned_force[a - lo],
+                        &mut output.owned_torque[a - lo],
+                        ra,
+                        &c,
+                    );
+                } else {
+                    // the contact ended: its history is dropped
+                    output.incoming.set(in_slot[p] as usize, PairOut::default());
+                    output.shear[q] = [0.0; 3];
+                    output.touch[q] = false;
+                }
             }
         }
-    }
+    });
     touching
+}
+
+thread_local! {
+    /// Each thread's lanes of the pair kernel (a leaf of [`owners`] borrows them while it
+    /// runs, and never yields to another task meanwhile).
+    static LANES: std::cell::RefCell<ContactLanes> = std::cell::RefCell::new(ContactLanes::default());
 }
 
 /// A contact's part of the force and torque on the particle of radius `r` it was computed

@@ -44,6 +44,7 @@
 pub mod bodies;
 pub mod bond_order;
 pub mod contact;
+pub mod contact_lanes;
 mod declaration;
 pub mod domain;
 pub mod engine;
