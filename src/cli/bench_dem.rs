@@ -163,14 +163,16 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
     let now = engine.stage_times();
     eprintln!(
         "{}: {:.2} s timed: pair forces {:.2} s, particle pass (gather, walls, gravity, kicks, \
-         drifts) {:.2} s, list rebuilds {:.2} s ({} rebuilds), samples {:.2} s",
+         drifts) {:.2} s, list rebuilds {:.2} s ({} rebuilds), samples {:.2} s; {:.2} listed \
+         pairs per particle at the end",
         w.name,
         secs,
         now.pairs - stages.pairs,
         now.particles - stages.particles,
         now.rebuilds - stages.rebuilds,
         after.rebuilds - before.rebuilds,
-        now.samples - stages.samples
+        now.samples - stages.samples,
+        engine.listed_pairs() as f64 / n as f64
     );
     Ok(BenchResult {
         workload: w.name.to_string(),

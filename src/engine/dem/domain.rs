@@ -37,17 +37,19 @@ impl Domain {
 
     /// The minimum image of a separation: in x (when periodic) and z, a component beyond half
     /// a period is moved by one period. Symmetric: min_image(-d) = -min_image(d) bitwise.
+    /// Written as selects (no branch: which pairs straddle a boundary is unpredictable, and
+    /// loops over pairs can run it in vector lanes).
     #[inline(always)]
     pub fn min_image(&self, mut d: [f64; 3]) -> [f64; 3] {
-        if d[0] > self.half[0] {
-            d[0] -= self.extent[0];
-        } else if d[0] < -self.half[0] {
-            d[0] += self.extent[0];
-        }
-        if d[2] > self.half[2] {
-            d[2] -= self.extent[2];
-        } else if d[2] < -self.half[2] {
-            d[2] += self.extent[2];
+        for k in [0, 2] {
+            let (down, up) = (d[k] - self.extent[k], d[k] + self.extent[k]);
+            d[k] = if d[k] > self.half[k] {
+                down
+            } else if d[k] < -self.half[k] {
+                up
+            } else {
+                d[k]
+            };
         }
         d
     }

@@ -246,18 +246,59 @@ pub fn pair_forces(
     owners(&input, 0, bodies.len(), output)
 }
 
-/// del = x_a - x_b (minimum image), r^2 = |del|^2 and R_a + R_b of the pair (a, b).
-#[inline(always)]
-fn separation(
+/// A listed pair's separation: del = x_a - x_b (minimum image), r^2 = |del|^2, R_a + R_b.
+#[derive(Clone, Copy, Debug, Default)]
+struct Separation {
+    del: [f64; 3],
+    rsq: f64,
+    radsum: f64,
+}
+
+/// The separations of a run of listed pairs (at most [`SCAN_BLOCK`]) into `out`: a loop
+/// without branches, compiled for AVX2 where the CPU has it.
+fn separations(
     domain: &Domain,
     x: &[[f64; 3]],
     radius: &[f64],
-    a: usize,
-    b: usize,
-) -> ([f64; 3], f64, f64) {
-    let del = domain.min_image([x[a][0] - x[b][0], x[a][1] - x[b][1], x[a][2] - x[b][2]]);
-    let rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-    (del, rsq, radius[a] + radius[b])
+    pairs: &[[u32; 2]],
+    out: &mut [Separation],
+) {
+    #[inline(always)]
+    fn body(
+        domain: &Domain,
+        x: &[[f64; 3]],
+        radius: &[f64],
+        pairs: &[[u32; 2]],
+        out: &mut [Separation],
+    ) {
+        for (s, &[a, b]) in out.iter_mut().zip(pairs) {
+            let (a, b) = (a as usize, b as usize);
+            let del = domain.min_image([x[a][0] - x[b][0], x[a][1] - x[b][1], x[a][2] - x[b][2]]);
+            *s = Separation {
+                del,
+                rsq: del[0] * del[0] + del[1] * del[1] + del[2] * del[2],
+                radsum: radius[a] + radius[b],
+            };
+        }
+    }
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn avx2(
+        domain: &Domain,
+        x: &[[f64; 3]],
+        radius: &[f64],
+        pairs: &[[u32; 2]],
+        out: &mut [Separation],
+    ) {
+        body(domain, x, radius, pairs, out)
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above)
+        unsafe { avx2(domain, x, radius, pairs, out) };
+        return;
+    }
+    body(domain, x, radius, pairs, out)
 }
 
 /// The pairs of owners lo .. hi (their slots start at pair_start[lo]), in blocks: first the
@@ -296,18 +337,23 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
     output.owned_torque.fill([0.0; 3]);
     let mut touching = 0u64;
     let mut candidates = [0u32; SCAN_BLOCK];
-    LANES.with_borrow_mut(|lanes| {
+    LANES.with_borrow_mut(|(lanes, scan)| {
         for block in (base..end).step_by(SCAN_BLOCK) {
-            let mut n = 0;
             let stop = end.min(block + SCAN_BLOCK);
-            for (p, &[a, b]) in (block..stop).zip(&pairs[block..stop]) {
-                let (del, rsq, radsum) = separation(domain, x, radius, a as usize, b as usize);
-                candidates[n] = p as u32;
+            let scan = &mut scan[..];
+            separations(domain, x, radius, &pairs[block..stop], scan);
+            let mut n = 0;
+            for (l, (s, &touch)) in scan
+                .iter()
+                .zip(&output.touch[block - base..stop - base])
+                .enumerate()
+            {
+                candidates[n] = (block + l) as u32;
                 for k in 0..3 {
-                    lanes.del[k][n] = del[k];
+                    lanes.del[k][n] = s.del[k];
                 }
-                lanes.rsq[n] = rsq;
-                n += ((rsq < radsum * radsum) | output.touch[p - base]) as usize;
+                lanes.rsq[n] = s.rsq;
+                n += ((s.rsq < s.radsum * s.radsum) | touch) as usize;
             }
             for (l, &p) in candidates[..n].iter().enumerate() {
                 let (p, q) = (p as usize, p as usize - base);
@@ -369,7 +415,8 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
 thread_local! {
     /// Each thread's lanes of the pair kernel (a leaf of [`owners`] borrows them while it
     /// runs, and never yields to another task meanwhile).
-    static LANES: std::cell::RefCell<ContactLanes> = std::cell::RefCell::new(ContactLanes::default());
+    static LANES: std::cell::RefCell<(ContactLanes, [Separation; SCAN_BLOCK])> =
+        std::cell::RefCell::new((ContactLanes::default(), [Separation::default(); SCAN_BLOCK]));
 }
 
 /// A contact's part of the force and torque on the particle of radius `r` it was computed
