@@ -342,29 +342,29 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
             let stop = end.min(block + SCAN_BLOCK);
             let scan = &mut scan[..];
             separations(domain, x, radius, &pairs[block..stop], scan);
+            // the candidates' places in the block, without a branch on the contact test
             let mut n = 0;
             for (l, (s, &touch)) in scan
                 .iter()
                 .zip(&output.touch[block - base..stop - base])
                 .enumerate()
             {
-                candidates[n] = (block + l) as u32;
-                for k in 0..3 {
-                    lanes.del[k][n] = s.del[k];
-                }
-                lanes.rsq[n] = s.rsq;
+                candidates[n] = l as u32;
                 n += ((s.rsq < s.radsum * s.radsum) | touch) as usize;
             }
-            for (l, &p) in candidates[..n].iter().enumerate() {
-                let (p, q) = (p as usize, p as usize - base);
+            for (l, &c) in candidates[..n].iter().enumerate() {
+                let (s, p) = (&scan[c as usize], block + c as usize);
+                let q = p - base;
                 let [a, b] = pairs[p];
                 let (a, b) = (a as usize, b as usize);
                 let (ra, rb) = (radius[a], radius[b]);
                 for k in 0..3 {
+                    lanes.del[k][l] = s.del[k];
                     lanes.vr[k][l] = v[a][k] - v[b][k];
                     lanes.spin[k][l] = ra * w[a][k] + rb * w[b][k];
                     lanes.shear[k][l] = output.shear[q][k];
                 }
+                lanes.rsq[l] = s.rsq;
                 lanes.radius[0][l] = ra;
                 lanes.radius[1][l] = rb;
                 lanes.mass[0][l] = mass[a];
@@ -375,8 +375,9 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
             } else {
                 lanes.evaluate::<false>(law, n);
             }
-            for (l, &p) in candidates[..n].iter().enumerate() {
-                let (p, q) = (p as usize, p as usize - base);
+            for (l, &c) in candidates[..n].iter().enumerate() {
+                let p = block + c as usize;
+                let q = p - base;
                 let a = pairs[p][0] as usize;
                 let (ra, rb) = (lanes.radius[0][l], lanes.radius[1][l]);
                 if lanes.rsq[l] < (ra + rb) * (ra + rb) {
