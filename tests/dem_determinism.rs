@@ -92,12 +92,12 @@ fn the_engine_is_the_reference_bit_for_bit() {
     assert!(rebuilds >= 5 && started > 20 && ended > 20);
 }
 
-/// A channel large enough for several parallel blocks of particles (512) and pairs (2048).
+/// A channel large enough for several parallel blocks of particles (256) and pairs (2048).
 fn threaded_channel() -> (DemParams, Vec<granflow::engine::dem::BodyState>) {
     let mut p = params(1e5, 16.0, 10.0, 20.0);
     p.gravity = [1.0, 0.0, 0.0];
     let states = jittered(&p, 1.105, 0.3, 11);
-    assert!(states.len() > 3 * 512, "{}", states.len());
+    assert!(states.len() > 3 * 256, "{}", states.len());
     (p, states)
 }
 

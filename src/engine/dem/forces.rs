@@ -29,7 +29,7 @@ use rayon::prelude::*;
 use std::marker::PhantomData;
 
 /// Particles per parallel task.
-pub const PARTICLE_CHUNK: usize = 512;
+pub const PARTICLE_CHUNK: usize = 256;
 
 /// The flat boundaries: walls at y = 0 and y = W, and the preparation's floor normal to x.
 #[derive(Clone, Copy, Debug)]
