@@ -18,7 +18,11 @@ pub struct GatherArgs {
 pub fn run(args: GatherArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
     let written = tables::gather(&sweep, &dirs)?;
-    let names: Vec<String> = written.tables.iter().map(|n| format!("{n}.parquet")).collect();
+    let names: Vec<String> = written
+        .tables
+        .iter()
+        .map(|n| format!("{n}.parquet"))
+        .collect();
     outln!(
         "wrote {} in {}: {} jobs, {} done{}",
         names.join(", "),

@@ -542,6 +542,104 @@ impl EventQueue for TournamentQueue {
     }
 }
 
+/// The engine's queue: the tournament tree while its nodes fit in a second-level cache, the
+/// calendar queue for larger systems, where the tree's lower levels miss the caches on every
+/// update (N = 32 000, phi = 0.15: 0.75x the calendar's speed; N = 4000: 1.07x). Both pop in
+/// the same order, so the choice changes no result.
+#[derive(Clone, Debug)]
+pub enum EngineQueue {
+    Tree(TournamentQueue),
+    Calendar(CalendarQueue),
+}
+
+impl EngineQueue {
+    /// Up to this many bytes of tree nodes (half the 512 KiB second-level cache of this
+    /// project's machines), events go into a tournament tree: N <= 8192.
+    pub const TREE_IN_CACHE: usize = 256 * 1024;
+
+    /// A queue for `particles` particles: a tree when it is small enough, else a calendar of
+    /// `buckets` buckets of `width` from `now`.
+    pub fn new(particles: usize, buckets: usize, width: f64, now: f64) -> Self {
+        let tree = TournamentQueue::new(particles);
+        if tree.keys.len() * std::mem::size_of::<u128>() <= Self::TREE_IN_CACHE {
+            EngineQueue::Tree(tree)
+        } else {
+            EngineQueue::Calendar(CalendarQueue::new(particles, buckets, width, now))
+        }
+    }
+
+    /// The earliest event, to be processed now; the caller then schedules or cancels that
+    /// particle's next event, which replaces it. The tree keeps the event in place until
+    /// then (taking it out first would replay its matches twice); the calendar takes it out.
+    #[inline(always)]
+    pub fn take_next(&mut self) -> Option<(f64, u32)> {
+        match self {
+            EngineQueue::Tree(q) => q.peek(),
+            EngineQueue::Calendar(q) => q.pop(),
+        }
+    }
+
+    /// The event after the one [`EngineQueue::take_next`] returned, where that is known at
+    /// no cost (calendar: it is the queue's first); None for the tree, which still holds the
+    /// taken event.
+    #[inline(always)]
+    pub fn following(&mut self) -> Option<(f64, u32)> {
+        match self {
+            EngineQueue::Tree(_) => None,
+            EngineQueue::Calendar(q) => q.peek(),
+        }
+    }
+
+    /// Memory per particle, in bytes.
+    pub fn bytes_per_particle(&self) -> usize {
+        match self {
+            EngineQueue::Tree(q) => q.bytes_per_particle(),
+            EngineQueue::Calendar(q) => q.bytes_per_particle(),
+        }
+    }
+}
+
+impl EventQueue for EngineQueue {
+    #[inline(always)]
+    fn schedule(&mut self, id: u32, time: f64) {
+        match self {
+            EngineQueue::Tree(q) => q.schedule(id, time),
+            EngineQueue::Calendar(q) => q.schedule(id, time),
+        }
+    }
+
+    #[inline(always)]
+    fn cancel(&mut self, id: u32) {
+        match self {
+            EngineQueue::Tree(q) => q.cancel(id),
+            EngineQueue::Calendar(q) => q.cancel(id),
+        }
+    }
+
+    #[inline(always)]
+    fn peek(&mut self) -> Option<(f64, u32)> {
+        match self {
+            EngineQueue::Tree(q) => q.peek(),
+            EngineQueue::Calendar(q) => q.peek(),
+        }
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<(f64, u32)> {
+        match self {
+            EngineQueue::Tree(q) => q.pop(),
+            EngineQueue::Calendar(q) => q.pop(),
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            EngineQueue::Tree(q) => q.len(),
+            EngineQueue::Calendar(q) => q.len(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -591,6 +689,23 @@ mod tests {
             assert!(fast.pop().is_none());
             assert!(fast.is_empty());
         }
+    }
+
+    /// Small systems get the tree, large ones the calendar.
+    #[test]
+    fn engine_queue_is_a_tree_while_it_fits_in_cache() {
+        assert!(matches!(
+            EngineQueue::new(4000, 4000, 1e-3, 0.0),
+            EngineQueue::Tree(_)
+        ));
+        assert!(matches!(
+            EngineQueue::new(8192, 8192, 1e-3, 0.0),
+            EngineQueue::Tree(_)
+        ));
+        assert!(matches!(
+            EngineQueue::new(8193, 8193, 1e-3, 0.0),
+            EngineQueue::Calendar(_)
+        ));
     }
 
     /// Ties in time go to the smaller particle, and zero times (of either sign) come first.

@@ -183,10 +183,7 @@ impl EdmdEngine {
         best_dt: &mut f64,
     ) {
         let (pair, collisions) = self.approach(i, j, image);
-        if kept.push_if(
-            pair.may_touch_within(*best_dt),
-            (pair, j, collisions),
-        ) {
+        if kept.push_if(pair.may_touch_within(*best_dt), (pair, j, collisions)) {
             self.earliest_kept(kept, best, best_dt);
             kept.clear();
         }

@@ -22,14 +22,19 @@ impl EdmdEngine {
 
     /// Process the earliest event. Returns false when no event is left.
     ///
-    /// The event stays in the queue while it is processed: every event ends by scheduling (or
-    /// cancelling) the particle's next one, which replaces it, so taking it out first would
-    /// only replay its matches in the tournament tree twice.
+    /// Every event ends by scheduling (or cancelling) the particle's next one, which replaces
+    /// it in the queue (see [`EngineQueue::take_next`]).
     pub(super) fn step(&mut self) -> bool {
-        let Some((t, id)) = self.queue.peek() else {
+        let Some((t, id)) = self.queue.take_next() else {
             return false;
         };
         let i = id as usize;
+        // the following event is most likely the queue's next one: where the queue knows it
+        // already (the calendar of a large system, whose records do not stay in cache), start
+        // loading its records now, so that they are in cache when it is processed
+        if let Some((_, next)) = self.queue.following() {
+            self.prefetch_own_records(next as usize);
+        }
         self.now = t;
         self.counters.events += 1;
         if self.counters.events == self.next_rebuild {
@@ -73,19 +78,28 @@ impl EdmdEngine {
         true
     }
 
-    /// Start loading what the next event will read: its own records, and, once its plan has
-    /// arrived, what the plan names: the partner of a collision (its counter and velocities
-    /// are read at once, its list next) and the neighbours that the particle's next
-    /// prediction will test.
+    /// Start loading particle `next`'s records: kinematics, plan, angular velocity and (list
+    /// search) its list.
+    #[inline(always)]
+    fn prefetch_own_records(&self, next: usize) {
+        prefetch_at(&self.kin, next);
+        prefetch_at(&self.plan, next);
+        prefetch_at(&self.angular, next);
+        if self.uses_lists() {
+            self.lists.prefetch(next);
+        }
+    }
+
+    /// Start loading what the next event will read: its own records (unless the step began
+    /// with them, [`EngineQueue::following`]) and, once its plan has arrived, what the plan
+    /// names: the partner of a collision (its counter and velocities are read at once, its
+    /// list next) and the neighbours that the particle's next prediction will test.
     #[inline(always)]
     pub(super) fn prefetch_partner_of_next_event(&mut self) {
         if let Some((_, next)) = self.queue.peek() {
             let next = next as usize;
-            prefetch_at(&self.kin, next);
-            prefetch_at(&self.plan, next);
-            prefetch_at(&self.angular, next);
-            if self.uses_lists() {
-                self.lists.prefetch(next);
+            if matches!(self.queue, EngineQueue::Tree(_)) {
+                self.prefetch_own_records(next);
             }
             if let EventKind::Pair { partner, .. } = self.plan[next].event {
                 let j = partner as usize;

@@ -11,7 +11,7 @@ use super::images::ImageShifts;
 use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::prefetch::prefetch_at;
-use super::queue::{EventQueue, TournamentQueue};
+use super::queue::{EngineQueue, EventQueue};
 use super::search_policy::SearchPolicy;
 use super::setup;
 use crate::engine::{
@@ -151,7 +151,7 @@ pub struct EdmdEngine {
     last_collision: Vec<f64>,
     /// scheduled event and pair candidate of each particle (one record: one cache miss)
     plan: Vec<Plan>,
-    queue: TournamentQueue,
+    queue: EngineQueue,
     /// how partners are found (cell lists, or neighbour lists: then the cells hold anchors)
     /// and whether rebuilds re-choose it
     policy: SearchPolicy,
@@ -303,7 +303,7 @@ impl EdmdEngine {
             angular: state.angular_velocities,
             last_collision: state.last_collision,
             plan: vec![Plan::NONE; n],
-            queue: TournamentQueue::new(n),
+            queue: EngineQueue::new(n, 1, 1.0, state.now),
             policy: state.search,
             lists: lists_for(search, n),
             anchors: Vec::new(),
