@@ -1,11 +1,15 @@
 //! Future-event queues holding at most one event per particle, ordered by (time, particle).
 //!
-//! [`CalendarQueue`] is the fast one: an O(1) calendar (bucket) queue after G. Paul, J. Comput.
-//! Phys. 221, 615 (2007): events of the current bucket sit in a small binary heap, events of the
-//! rest of the current "year" of buckets in unsorted doubly-linked lists threaded through
-//! per-particle arrays (no allocation per event), later events in one overflow list that is
-//! redistributed once a year. [`ReferenceQueue`] is the simple version (a B-tree) that tests
-//! check it against. Both pop in exactly the same order: ties in time go to the smaller index.
+//! [`TournamentQueue`] is the engine's: a tournament tree over one leaf per particle, whose
+//! every update is the same log2(N) branch-free matches. [`CalendarQueue`], which the engine
+//! used before, is an O(1) calendar (bucket) queue after G. Paul, J. Comput. Phys. 221, 615
+//! (2007): events of the current bucket sit in a small binary heap, events of the rest of the
+//! current "year" of buckets in unsorted doubly-linked lists threaded through per-particle
+//! arrays (no allocation per event), later events in one overflow list that is redistributed
+//! once a year; its branches (which bucket, which heap child, which list end) are coin flips
+//! that cost more than the tree's fixed path (N = 4000: 1.0 M fewer simulated mispredictions
+//! per 84 000 collisions). [`ReferenceQueue`] is the simple version (a B-tree) that tests check
+//! both against. All pop in exactly the same order: ties in time go to the smaller index.
 
 use super::prefetch::prefetch_at;
 use std::collections::BTreeSet;
@@ -397,5 +401,325 @@ impl EventQueue for CalendarQueue {
 
     fn len(&self) -> usize {
         self.len
+    }
+}
+
+/// Key of a vacant leaf: later than every event (whose key has the bits of a finite time).
+const VACANT: u128 = u128::MAX;
+
+/// A tournament tree (a complete binary tree of winners) over one leaf per particle: each
+/// inner node holds the earlier of its two children, so the root is the earliest event.
+/// Scheduling, replacing or cancelling an event replays the matches on its leaf's path to the
+/// root: log2(particles) steps of the same length, each a load of the sibling, one comparison
+/// and a select, with no data-dependent branch (which of two events is earlier is a coin flip,
+/// the branches of a heap or of bucket lists mispredict about half the time).
+///
+/// An event is the key (time bits << 32 | particle): for finite times >= 0 the bits order like
+/// the times, so comparing keys orders by (time, particle), ties to the smaller index, as
+/// [`ReferenceQueue`] and [`CalendarQueue`] do.
+#[derive(Clone, Debug)]
+pub struct TournamentQueue {
+    /// node k has children 2k and 2k + 1; the root is node 1, particle i's leaf is node
+    /// `leaves + i` (node 0 is unused)
+    keys: Vec<u128>,
+    /// number of leaves (a power of two, at least 2)
+    leaves: usize,
+    len: usize,
+}
+
+impl TournamentQueue {
+    /// An empty queue for `particles` particles.
+    pub fn new(particles: usize) -> Self {
+        let leaves = particles.max(2).next_power_of_two();
+        TournamentQueue {
+            keys: vec![VACANT; 2 * leaves],
+            leaves,
+            len: 0,
+        }
+    }
+
+    /// Memory per particle, in bytes (about two nodes).
+    pub fn bytes_per_particle(&self) -> usize {
+        2 * std::mem::size_of::<u128>()
+    }
+
+    /// The key of particle `id`'s event at `time` (+0.0 for a -0.0, whose bits would order it
+    /// last).
+    #[inline(always)]
+    fn key(id: u32, time: f64) -> u128 {
+        (((time + 0.0).to_bits() as u128) << 32) | id as u128
+    }
+
+    /// The event of a key.
+    #[inline(always)]
+    fn event(key: u128) -> (f64, u32) {
+        (f64::from_bits((key >> 32) as u64), key as u32)
+    }
+
+    /// Put `key` in particle `id`'s leaf and replay the matches up to the root; returns the
+    /// key the leaf held.
+    #[inline(always)]
+    fn replace(&mut self, id: u32, key: u128) -> u128 {
+        assert!((id as usize) < self.leaves, "particle {id} has no leaf");
+        let mut node = self.leaves + id as usize;
+        let keys = self.keys.as_mut_slice();
+        // SAFETY: node < 2 leaves = keys.len() (id < leaves), and from there on node and its
+        // sibling node ^ 1 only shrink towards 1
+        unsafe {
+            let old = std::mem::replace(keys.get_unchecked_mut(node), key);
+            let mut winner = key;
+            while node > 1 {
+                let rival = *keys.get_unchecked(node ^ 1);
+                winner = earlier_of(winner, rival);
+                node >>= 1;
+                *keys.get_unchecked_mut(node) = winner;
+            }
+            old
+        }
+    }
+}
+
+/// The smaller of two keys, by a select rather than a branch (which of two events is earlier
+/// is a coin flip): conditional moves in x86-64 assembly, since LLVM turns a select of a
+/// 128-bit value in a loop back into a branch.
+#[inline(always)]
+fn earlier_of(a: u128, b: u128) -> u128 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let (mut low, mut high) = (a as u64, (a >> 64) as u64);
+        // SAFETY: register-only arithmetic: compare b with a as 128-bit numbers (cmp/sbb on
+        // a scratch copy) and move b's halves in when b is below
+        unsafe {
+            std::arch::asm!(
+                "cmp {bl}, {al}",
+                "mov {t}, {bh}",
+                "sbb {t}, {ah}",
+                "cmovb {al}, {bl}",
+                "cmovb {ah}, {bh}",
+                al = inout(reg) low,
+                ah = inout(reg) high,
+                bl = in(reg) b as u64,
+                bh = in(reg) (b >> 64) as u64,
+                t = out(reg) _,
+                options(pure, nomem, nostack),
+            );
+        }
+        (high as u128) << 64 | low as u128
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    a.min(b)
+}
+
+impl EventQueue for TournamentQueue {
+    #[inline]
+    fn schedule(&mut self, id: u32, time: f64) {
+        debug_assert!(time >= 0.0 && time.is_finite());
+        let old = self.replace(id, Self::key(id, time));
+        self.len += (old == VACANT) as usize;
+    }
+
+    #[inline]
+    fn cancel(&mut self, id: u32) {
+        let old = self.replace(id, VACANT);
+        self.len -= (old != VACANT) as usize;
+    }
+
+    #[inline(always)]
+    fn peek(&mut self) -> Option<(f64, u32)> {
+        let root = self.keys[1];
+        (root != VACANT).then(|| Self::event(root))
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<(f64, u32)> {
+        let first = self.peek()?;
+        self.cancel(first.1);
+        Some(first)
+    }
+
+    fn len(&self) -> usize {
+        self.len
+    }
+}
+
+/// The engine's queue: the tournament tree while its nodes fit in a second-level cache, the
+/// calendar queue for larger systems, where the tree's lower levels miss the caches on every
+/// update (N = 32 000, phi = 0.15: 0.75x the calendar's speed; N = 4000: 1.07x). Both pop in
+/// the same order, so the choice changes no result.
+#[derive(Clone, Debug)]
+pub enum EngineQueue {
+    Tree(TournamentQueue),
+    Calendar(CalendarQueue),
+}
+
+impl EngineQueue {
+    /// Up to this many bytes of tree nodes (half the 512 KiB second-level cache of this
+    /// project's machines), events go into a tournament tree: N <= 8192.
+    pub const TREE_IN_CACHE: usize = 256 * 1024;
+
+    /// A queue for `particles` particles: a tree when it is small enough, else a calendar of
+    /// `buckets` buckets of `width` from `now`.
+    pub fn new(particles: usize, buckets: usize, width: f64, now: f64) -> Self {
+        let tree = TournamentQueue::new(particles);
+        if tree.keys.len() * std::mem::size_of::<u128>() <= Self::TREE_IN_CACHE {
+            EngineQueue::Tree(tree)
+        } else {
+            EngineQueue::Calendar(CalendarQueue::new(particles, buckets, width, now))
+        }
+    }
+
+    /// The earliest event, to be processed now; the caller then schedules or cancels that
+    /// particle's next event, which replaces it. The tree keeps the event in place until
+    /// then (taking it out first would replay its matches twice); the calendar takes it out.
+    #[inline(always)]
+    pub fn take_next(&mut self) -> Option<(f64, u32)> {
+        match self {
+            EngineQueue::Tree(q) => q.peek(),
+            EngineQueue::Calendar(q) => q.pop(),
+        }
+    }
+
+    /// The event after the one [`EngineQueue::take_next`] returned, where that is known at
+    /// no cost (calendar: it is the queue's first); None for the tree, which still holds the
+    /// taken event.
+    #[inline(always)]
+    pub fn following(&mut self) -> Option<(f64, u32)> {
+        match self {
+            EngineQueue::Tree(_) => None,
+            EngineQueue::Calendar(q) => q.peek(),
+        }
+    }
+
+    /// Memory per particle, in bytes.
+    pub fn bytes_per_particle(&self) -> usize {
+        match self {
+            EngineQueue::Tree(q) => q.bytes_per_particle(),
+            EngineQueue::Calendar(q) => q.bytes_per_particle(),
+        }
+    }
+}
+
+impl EventQueue for EngineQueue {
+    #[inline(always)]
+    fn schedule(&mut self, id: u32, time: f64) {
+        match self {
+            EngineQueue::Tree(q) => q.schedule(id, time),
+            EngineQueue::Calendar(q) => q.schedule(id, time),
+        }
+    }
+
+    #[inline(always)]
+    fn cancel(&mut self, id: u32) {
+        match self {
+            EngineQueue::Tree(q) => q.cancel(id),
+            EngineQueue::Calendar(q) => q.cancel(id),
+        }
+    }
+
+    #[inline(always)]
+    fn peek(&mut self) -> Option<(f64, u32)> {
+        match self {
+            EngineQueue::Tree(q) => q.peek(),
+            EngineQueue::Calendar(q) => q.peek(),
+        }
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<(f64, u32)> {
+        match self {
+            EngineQueue::Tree(q) => q.pop(),
+            EngineQueue::Calendar(q) => q.pop(),
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            EngineQueue::Tree(q) => q.len(),
+            EngineQueue::Calendar(q) => q.len(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_pcg::Pcg64;
+
+    /// The tournament tree peeks and pops exactly like the B-tree reference on random streams
+    /// of schedules (ties at `now` included), replacements, cancellations and pops, for
+    /// particle counts that do and do not fill a power of two.
+    #[test]
+    fn tournament_queue_pops_like_reference_queue() {
+        for (seed, n) in [(1u64, 500u32), (2, 1), (3, 2), (4, 3), (5, 64), (6, 1000)] {
+            let mut rng = Pcg64::seed_from_u64(seed);
+            let mut fast = TournamentQueue::new(n as usize);
+            let mut slow = ReferenceQueue::new(n as usize);
+            let mut now = 0.0f64;
+            for step in 0..100_000 {
+                let op = rng.random_range(0..10);
+                if op < 5 {
+                    let id = rng.random_range(0..n);
+                    let t = match rng.random_range(0..4) {
+                        0 => now,
+                        1 => now + rng.random::<f64>() * 1000.0,
+                        _ => now + rng.random::<f64>(),
+                    };
+                    fast.schedule(id, t);
+                    slow.schedule(id, t);
+                } else if op < 6 {
+                    let id = rng.random_range(0..n);
+                    fast.cancel(id);
+                    slow.cancel(id);
+                } else if op < 7 {
+                    assert_eq!(fast.peek(), slow.peek(), "peek differs at step {step}");
+                } else {
+                    let (a, b) = (fast.pop(), slow.pop());
+                    assert_eq!(a, b, "pop differs at step {step} (seed {seed})");
+                    if let Some((t, _)) = a {
+                        assert!(t >= now, "time went backwards");
+                        now = t;
+                    }
+                }
+                assert_eq!(fast.len(), slow.len());
+            }
+            while let Some(b) = slow.pop() {
+                assert_eq!(fast.pop(), Some(b));
+            }
+            assert!(fast.pop().is_none());
+            assert!(fast.is_empty());
+        }
+    }
+
+    /// Small systems get the tree, large ones the calendar.
+    #[test]
+    fn engine_queue_is_a_tree_while_it_fits_in_cache() {
+        assert!(matches!(
+            EngineQueue::new(4000, 4000, 1e-3, 0.0),
+            EngineQueue::Tree(_)
+        ));
+        assert!(matches!(
+            EngineQueue::new(8192, 8192, 1e-3, 0.0),
+            EngineQueue::Tree(_)
+        ));
+        assert!(matches!(
+            EngineQueue::new(8193, 8193, 1e-3, 0.0),
+            EngineQueue::Calendar(_)
+        ));
+    }
+
+    /// Ties in time go to the smaller particle, and zero times (of either sign) come first.
+    #[test]
+    fn tournament_queue_orders_ties_by_particle() {
+        let mut q = TournamentQueue::new(5);
+        q.schedule(3, 1.0);
+        q.schedule(1, 1.0);
+        q.schedule(4, -0.0);
+        q.schedule(2, 0.0);
+        assert_eq!(q.pop(), Some((0.0, 2)));
+        assert_eq!(q.pop(), Some((0.0, 4)));
+        assert_eq!(q.pop(), Some((1.0, 1)));
+        assert_eq!(q.pop(), Some((1.0, 3)));
+        assert_eq!(q.pop(), None);
     }
 }

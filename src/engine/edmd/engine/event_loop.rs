@@ -1,4 +1,4 @@
-//! The event loop: scheduling, taking the earliest event from the calendar, dispatching it, and
+//! The event loop: scheduling, taking the earliest event from the queue, dispatching it, and
 //! prefetching what the next event will read.
 
 use super::*;
@@ -21,26 +21,24 @@ impl EdmdEngine {
     }
 
     /// Process the earliest event. Returns false when no event is left.
+    ///
+    /// Every event ends by scheduling (or cancelling) the particle's next one, which replaces
+    /// it in the queue (see [`EngineQueue::take_next`]).
     pub(super) fn step(&mut self) -> bool {
-        let Some((t, id)) = self.queue.pop() else {
+        let Some((t, id)) = self.queue.take_next() else {
             return false;
         };
         let i = id as usize;
-        // the following event is most likely the queue's next one: start loading its records
-        // now, so that they are in cache when it is processed
-        if let Some((_, next)) = self.queue.peek() {
-            let next = next as usize;
-            prefetch_at(&self.kin, next);
-            prefetch_at(&self.plan, next);
-            prefetch_at(&self.angular, next);
-            if self.uses_lists() {
-                self.lists.prefetch(next);
-            }
+        // the following event is most likely the queue's next one: where the queue knows it
+        // already (the calendar of a large system, whose records do not stay in cache), start
+        // loading its records now, so that they are in cache when it is processed
+        if let Some((_, next)) = self.queue.following() {
+            self.prefetch_own_records(next as usize);
         }
         self.now = t;
         self.counters.events += 1;
         if self.counters.events == self.next_rebuild {
-            // the popped event is re-predicted by the rebuild, together with all others
+            // the event is re-predicted by the rebuild, together with all others
             self.rebuild();
             return true;
         }
@@ -80,14 +78,29 @@ impl EdmdEngine {
         true
     }
 
-    /// The next event's own records were prefetched when this step began; by now its plan (and
-    /// neighbour list) has arrived, so what they name can be loaded too: the partner of a
-    /// collision (its counter and velocities are read at once, its list next) and the
-    /// neighbours that the particle's next prediction will test.
+    /// Start loading particle `next`'s records: kinematics, plan, angular velocity and (list
+    /// search) its list.
+    #[inline(always)]
+    fn prefetch_own_records(&self, next: usize) {
+        prefetch_at(&self.kin, next);
+        prefetch_at(&self.plan, next);
+        prefetch_at(&self.angular, next);
+        if self.uses_lists() {
+            self.lists.prefetch(next);
+        }
+    }
+
+    /// Start loading what the next event will read: its own records (unless the step began
+    /// with them, [`EngineQueue::following`]) and, once its plan has arrived, what the plan
+    /// names: the partner of a collision (its counter and velocities are read at once, its
+    /// list next) and the neighbours that the particle's next prediction will test.
     #[inline(always)]
     pub(super) fn prefetch_partner_of_next_event(&mut self) {
         if let Some((_, next)) = self.queue.peek() {
             let next = next as usize;
+            if matches!(self.queue, EngineQueue::Tree(_)) {
+                self.prefetch_own_records(next);
+            }
             if let EventKind::Pair { partner, .. } = self.plan[next].event {
                 let j = partner as usize;
                 prefetch_at(&self.kin, j);

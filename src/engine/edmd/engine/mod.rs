@@ -1,7 +1,7 @@
 //! The event-driven engine: one scheduled event per particle (validated by collision
-//! counters), a calendar queue, cell lists, and per-particle local times (delayed update,
-//! Lubachevsky 1991): a particle's state is only brought forward when one of its own events
-//! is processed.
+//! counters), a tournament tree of events, cell lists, and per-particle local times (delayed
+//! update, Lubachevsky 1991): a particle's state is only brought forward when one of its own
+//! events is processed.
 
 use super::EdmdParams;
 use super::cells::{AxisCells, CellGrid, Neighbourhood};
@@ -11,7 +11,7 @@ use super::images::ImageShifts;
 use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
 use super::prefetch::prefetch_at;
-use super::queue::{CalendarQueue, EventQueue};
+use super::queue::{EngineQueue, EventQueue};
 use super::search_policy::SearchPolicy;
 use super::setup;
 use crate::engine::{
@@ -34,9 +34,9 @@ pub use list_search::NeighbourSearch;
 /// a partner).
 const CELL_MARGIN: f64 = 1.0 + 1e-9;
 
-/// The engine rebuilds its cells, events and calendar every this many events per particle
-/// (at event counts that are multiples of it: deterministic points of the run), so that the
-/// grid follows the mean flow and the calendar follows the event rate.
+/// The engine rebuilds its cells and events every this many events per particle (at event
+/// counts that are multiples of it: deterministic points of the run), so that the grid follows
+/// the mean flow.
 const REBUILD_EVENTS_PER_PARTICLE: u64 = 50;
 
 /// Up to this many bytes of particle records, a list search does not prefetch the records of
@@ -151,7 +151,7 @@ pub struct EdmdEngine {
     last_collision: Vec<f64>,
     /// scheduled event and pair candidate of each particle (one record: one cache miss)
     plan: Vec<Plan>,
-    queue: CalendarQueue,
+    queue: EngineQueue,
     /// how partners are found (cell lists, or neighbour lists: then the cells hold anchors)
     /// and whether rebuilds re-choose it
     policy: SearchPolicy,
@@ -303,7 +303,7 @@ impl EdmdEngine {
             angular: state.angular_velocities,
             last_collision: state.last_collision,
             plan: vec![Plan::NONE; n],
-            queue: CalendarQueue::new(n, 1, 1.0, state.now),
+            queue: EngineQueue::new(n, 1, 1.0, state.now),
             policy: state.search,
             lists: lists_for(search, n),
             anchors: Vec::new(),

@@ -64,8 +64,9 @@ impl EdmdEngine {
         };
         let period = REBUILD_EVENTS_PER_PARTICLE * n as u64;
         self.next_rebuild = (self.counters.events / period + 1) * period;
-        // predict every particle's next event, then size the calendar from their spread:
-        // about four events per bucket near `now`, a year of buckets spanning ~4 mean times
+        // predict every particle's next event, then size the calendar (if the queue is one)
+        // from their spread: about four events per bucket near `now`, a year of buckets
+        // spanning ~4 mean times
         let times: Vec<f64> = (0..n).map(|i| self.predict(i)).collect();
         let finite: Vec<f64> = times
             .iter()
@@ -78,7 +79,7 @@ impl EdmdEngine {
             finite.iter().sum::<f64>() / finite.len() as f64
         };
         let width = (4.0 * mean / n as f64).max(1e-12);
-        self.queue = CalendarQueue::new(n, n.max(16), width, self.now);
+        self.queue = EngineQueue::new(n, n.max(16), width, self.now);
         for (i, &t) in times.iter().enumerate() {
             if t.is_finite() {
                 self.queue.schedule(i as u32, t);
