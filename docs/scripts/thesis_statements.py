@@ -174,16 +174,12 @@ def chapter4_dilute(results):
     #    granflow's label classifies the 2D structure, which may be modulated along the flow
     #    (s-wave, slug) while phi(y) still has its dense centre: both are shown.
     plug = con.execute(
-        "SELECT j.restitution, j.label, j.valid, "
-        f"(SELECT max(p.value) / min(p.value) FROM {profiles} p "
-        "WHERE p.job_id = j.job_id AND p.quantity = 'phi'), "
-        f"(SELECT max(p.value) FROM {profiles} p WHERE p.job_id = j.job_id AND p.quantity = 'phi'), "
-        f"(SELECT avg(p.value) FROM {profiles} p WHERE p.job_id = j.job_id AND p.quantity = 'phi'), "
-        f"(SELECT arg_min(p.value, abs(p.coordinate - 0.5)) FROM {profiles} p "
-        "WHERE p.job_id = j.job_id AND p.quantity = 'phi'), "
-        f"(SELECT max(p.value) FILTER (WHERE abs(p.coordinate - 0.5) < 0.1) FROM {profiles} p "
-        "WHERE p.job_id = j.job_id AND p.quantity = 'phi') "
-        f"FROM {done} j WHERE roughness = 0 ORDER BY restitution").fetchall()
+        "SELECT j.restitution, j.label, j.valid, f.max / f.min, f.max, f.mean, f.centre, f.near "
+        "FROM (SELECT job_id, max(value) AS max, min(value) AS min, avg(value) AS mean, "
+        "arg_min(value, abs(coordinate - 0.5)) AS centre, "
+        "max(value) FILTER (WHERE abs(coordinate - 0.5) < 0.1) AS near "
+        f"FROM {profiles} WHERE quantity = 'phi' GROUP BY job_id) f "
+        f"JOIN {done} j USING (job_id) WHERE j.roughness = 0 ORDER BY j.restitution").fetchall()
     # dense centre: the largest phi(y) lies within 0.1 W of the centre, and the centre slab is
     # above the channel mean
     dense = lambda r: r[7] == r[4] and r[6] > r[5]
