@@ -643,6 +643,13 @@ fn two_runners_never_run_the_same_job() {
         let log = std::fs::read_to_string(d.join(queue::LOG_FILE)).unwrap();
         assert_eq!(event_count(&log, "start"), 1, "{}: {log}", d.display());
     }
+    // a results root that happens to be called `runs` is not taken for an override's
+    // runs/<overrides>/ directory: status and gather find its jobs beside its tables
+    let runs_root = dir.join("runs");
+    granflow_ok(&run_args(&file, &runs_root, &["--job-range", "0:2"]));
+    let out = granflow(&["status", runs_root.join("proc").to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && text.contains("done 2"), "{text}");
     // --job-range runs only its slice of the plan order
     let ranged = dir.join("ranged");
     granflow_ok(&run_args(&file, &ranged, &["--job-range", "1:3"]));

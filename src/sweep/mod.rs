@@ -166,17 +166,17 @@ pub fn override_tag(overrides: &[String]) -> String {
 pub fn open_results(dir: &Path) -> Result<(Sweep, SweepDirs), SpecError> {
     let file = dir.join(RESOLVED_SWEEP_FILE);
     let sweep = load_sweep(&file, &[])?;
-    let in_runs = dir
+    // DIR/<sweep>/runs/<overrides>/ shares the jobs of DIR/<sweep>/, which holds its own
+    // resolved sweep file; a results root that merely happens to be called `runs`
+    // (runs/<sweep>/) keeps its jobs beside its tables
+    let sweep_dir = dir
         .parent()
-        .and_then(|p| p.file_name())
-        .is_some_and(|n| n == "runs");
-    let jobs = if in_runs {
-        dir.parent()
-            .and_then(|p| p.parent())
-            .map(|p| p.join("jobs"))
-            .unwrap_or_else(|| dir.join("jobs"))
-    } else {
-        dir.join("jobs")
+        .filter(|p| p.file_name().is_some_and(|n| n == "runs"))
+        .and_then(|p| p.parent())
+        .filter(|p| p.join(RESOLVED_SWEEP_FILE).is_file());
+    let jobs = match sweep_dir {
+        Some(p) => p.join("jobs"),
+        None => dir.join("jobs"),
     };
     Ok((
         sweep,
