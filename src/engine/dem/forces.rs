@@ -22,9 +22,10 @@
 
 use super::bodies::Bodies;
 use super::contact::{self, ContactLaw};
-use super::contact_lanes::{BATCH, ContactLanes};
+use super::contact_lanes::ContactLanes;
 use super::domain::Domain;
 use super::neighbours::{NeighbourList, PairOut};
+use super::scan_lanes::{self, Candidates, SCAN_BLOCK};
 use rayon::prelude::*;
 use std::marker::PhantomData;
 
@@ -206,10 +207,6 @@ impl<'a> PairOutput<'a> {
     }
 }
 
-/// Pairs per block of the candidate scan of [`owners`]: a block's candidates fill at most one
-/// batch of lanes.
-const SCAN_BLOCK: usize = BATCH;
-
 /// Forces of all listed pairs at the current positions and velocities: each pair's force
 /// and tor into the other's incoming slot, and each owner's sums over its owned pairs (tag
 /// order) of F and of -R_owner tor. In parallel over ranges of owners (split in halves down
@@ -244,61 +241,6 @@ pub fn pair_forces(
         owned_torque: &mut list.owned_torque,
     };
     owners(&input, 0, bodies.len(), output)
-}
-
-/// A listed pair's separation: del = x_a - x_b (minimum image), r^2 = |del|^2, R_a + R_b.
-#[derive(Clone, Copy, Debug, Default)]
-struct Separation {
-    del: [f64; 3],
-    rsq: f64,
-    radsum: f64,
-}
-
-/// The separations of a run of listed pairs (at most [`SCAN_BLOCK`]) into `out`: a loop
-/// without branches, compiled for AVX2 where the CPU has it.
-fn separations(
-    domain: &Domain,
-    x: &[[f64; 3]],
-    radius: &[f64],
-    pairs: &[[u32; 2]],
-    out: &mut [Separation],
-) {
-    #[inline(always)]
-    fn body(
-        domain: &Domain,
-        x: &[[f64; 3]],
-        radius: &[f64],
-        pairs: &[[u32; 2]],
-        out: &mut [Separation],
-    ) {
-        for (s, &[a, b]) in out.iter_mut().zip(pairs) {
-            let (a, b) = (a as usize, b as usize);
-            let del = domain.min_image([x[a][0] - x[b][0], x[a][1] - x[b][1], x[a][2] - x[b][2]]);
-            *s = Separation {
-                del,
-                rsq: del[0] * del[0] + del[1] * del[1] + del[2] * del[2],
-                radsum: radius[a] + radius[b],
-            };
-        }
-    }
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn avx2(
-        domain: &Domain,
-        x: &[[f64; 3]],
-        radius: &[f64],
-        pairs: &[[u32; 2]],
-        out: &mut [Separation],
-    ) {
-        body(domain, x, radius, pairs, out)
-    }
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above)
-        unsafe { avx2(domain, x, radius, pairs, out) };
-        return;
-    }
-    body(domain, x, radius, pairs, out)
 }
 
 /// The pairs of owners lo .. hi (their slots start at pair_start[lo]), in blocks: first the
@@ -336,37 +278,21 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
     output.owned_force.fill([0.0; 3]);
     output.owned_torque.fill([0.0; 3]);
     let mut touching = 0u64;
-    let mut candidates = [0u32; SCAN_BLOCK];
-    LANES.with_borrow_mut(|(lanes, scan)| {
+    LANES.with_borrow_mut(|(lanes, found)| {
         for block in (base..end).step_by(SCAN_BLOCK) {
             let stop = end.min(block + SCAN_BLOCK);
-            let scan = &mut scan[..];
-            separations(domain, x, radius, &pairs[block..stop], scan);
-            // the candidates' places in the block, without a branch on the contact test
-            let mut n = 0;
-            for (l, (s, &touch)) in scan
-                .iter()
-                .zip(&output.touch[block - base..stop - base])
-                .enumerate()
-            {
-                candidates[n] = l as u32;
-                n += ((s.rsq < s.radsum * s.radsum) | touch) as usize;
-            }
-            for (l, &c) in candidates[..n].iter().enumerate() {
-                let (s, p) = (&scan[c as usize], block + c as usize);
-                let q = p - base;
-                let [a, b] = pairs[p];
-                let (a, b) = (a as usize, b as usize);
-                let (ra, rb) = (radius[a], radius[b]);
+            let touch = &output.touch[block - base..stop - base];
+            let n = scan_lanes::scan(domain, x, radius, &pairs[block..stop], touch, found, lanes);
+            // the rest of the candidates' inputs
+            for l in 0..n {
+                let q = block - base + found.place[l] as usize;
+                let (a, b) = (found.a[l] as usize, found.b[l] as usize);
+                let (ra, rb) = (lanes.radius[0][l], lanes.radius[1][l]);
                 for k in 0..3 {
-                    lanes.del[k][l] = s.del[k];
                     lanes.vr[k][l] = v[a][k] - v[b][k];
                     lanes.spin[k][l] = ra * w[a][k] + rb * w[b][k];
                     lanes.shear[k][l] = output.shear[q][k];
                 }
-                lanes.rsq[l] = s.rsq;
-                lanes.radius[0][l] = ra;
-                lanes.radius[1][l] = rb;
                 lanes.mass[0][l] = mass[a];
                 lanes.mass[1][l] = mass[b];
             }
@@ -375,10 +301,10 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
             } else {
                 lanes.evaluate::<false>(law, n);
             }
-            for (l, &c) in candidates[..n].iter().enumerate() {
-                let p = block + c as usize;
+            for l in 0..n {
+                let p = block + found.place[l] as usize;
                 let q = p - base;
-                let a = pairs[p][0] as usize;
+                let a = found.a[l] as usize;
                 let (ra, rb) = (lanes.radius[0][l], lanes.radius[1][l]);
                 if lanes.rsq[l] < (ra + rb) * (ra + rb) {
                     let c = contact::ContactForce {
@@ -408,6 +334,7 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
                     output.touch[q] = false;
                 }
             }
+
         }
     });
     touching
@@ -416,8 +343,8 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
 thread_local! {
     /// Each thread's lanes of the pair kernel (a leaf of [`owners`] borrows them while it
     /// runs, and never yields to another task meanwhile).
-    static LANES: std::cell::RefCell<(ContactLanes, [Separation; SCAN_BLOCK])> =
-        std::cell::RefCell::new((ContactLanes::default(), [Separation::default(); SCAN_BLOCK]));
+    static LANES: std::cell::RefCell<(ContactLanes, Candidates)> =
+        std::cell::RefCell::new((ContactLanes::default(), Candidates::default()));
 }
 
 /// A contact's part of the force and torque on the particle of radius `r` it was computed
@@ -446,6 +373,11 @@ pub fn nearer_wall(y: f64, radius: f64, width: f64) -> (usize, [f64; 3], bool) {
 /// nearer wall, the floor, gravity), store F and tau, then kick (and drift) as `pass` says.
 /// `record_wall`: keep each particle's wall force (for sampling). Returns the blocks' tallies
 /// in `tallies` and their sum.
+///
+/// A block of particles is done in two loops: first every particle's forces, turned into its
+/// kicks (dt/2) F/m and (dt/2) tau/I; then the kicks and drifts of the whole block, lane by
+/// lane over its coordinates (the same operations in the same order as one particle at a
+/// time, so the same bits).
 #[allow(clippy::too_many_arguments)]
 pub fn particle_pass(
     pair_law: &ContactLaw,
@@ -498,6 +430,8 @@ pub fn particle_pass(
             let x_build = &x_build[lo..lo + n];
             let (owned_force, owned_torque) = (&owned_force[lo..lo + n], &owned_torque[lo..lo + n]);
             let in_start = &in_start[lo..=lo + n];
+            // each particle's half kicks of this pass: (dt/2) F/m and (dt/2) tau/I
+            let mut kicks = Kicks::new(n);
             for k in 0..n {
                 let (r, m) = (radius[k], mass[k]);
                 // F = (sum over the lower part of the row, tag order, of -F_pair: the
@@ -581,25 +515,22 @@ pub fn particle_pass(
                     fs[k] = f;
                     ts[k] = t;
                 }
-                if pass == Pass::Setup {
-                    continue;
-                }
+                kicks.set(k, (kick_v[k], &f), (kick_w[k], &t));
+            }
+            match pass {
+                Pass::Setup => {}
                 // final half step: v += (dt/2) F/m, w += (dt/2) tau/I
-                for d in 0..3 {
-                    vs[k][d] += kick_v[k] * f[d];
-                    ws[k][d] += kick_w[k] * t[d];
-                }
-                if pass == Pass::FinalAndNext {
-                    drift(
-                        domain,
-                        bounds,
-                        dt,
-                        (kick_v[k], kick_w[k], m),
-                        (&mut xs[k], &mut vs[k], &mut ws[k]),
-                        (&f, &t),
-                        &x_build[k],
-                        &mut tally,
-                    );
+                Pass::Final => kicks.apply(vs, ws),
+                Pass::FinalAndNext => {
+                    kicks.apply(vs, ws);
+                    let block = Block {
+                        x: xs,
+                        v: vs,
+                        w: ws,
+                        mass,
+                        x_build,
+                    };
+                    drift(domain, bounds, dt, block, &kicks, &mut tally);
                 }
             }
             tally
@@ -608,44 +539,114 @@ pub fn particle_pass(
     Tally::sum(tallies)
 }
 
-/// The initial half step of one particle: v += (dt/2) F/m, x += dt v (wrapped), w += (dt/2)
-/// tau/I; tallies the displacement since the list build and the work rate of gravity.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn drift(
-    domain: &Domain,
-    bounds: &Boundaries,
-    dt: f64,
-    (kv, kw, m): (f64, f64, f64),
-    (x, v, w): (&mut [f64; 3], &mut [f64; 3], &mut [f64; 3]),
-    (f, t): (&[f64; 3], &[f64; 3]),
-    x_build: &[f64; 3],
-    tally: &mut Tally,
-) {
-    for d in 0..3 {
-        v[d] += kv * f[d];
-    }
-    for d in 0..3 {
-        x[d] += dt * v[d];
-    }
-    domain.wrap(x);
-    for d in 0..3 {
-        w[d] += kw * t[d];
-    }
-    let g = &bounds.gravity;
-    tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
-    let s = domain.min_image([x[0] - x_build[0], x[1] - x_build[1], x[2] - x_build[2]]);
-    // (a plain comparison: s is never NaN, and the sign of a zero bound does not matter)
-    let bounds = tally
-        .displacement_min
-        .iter_mut()
-        .zip(&mut tally.displacement_max);
-    for ((lo, hi), s) in bounds.zip(s) {
-        if s < *lo {
-            *lo = s;
+/// The half kicks of a block's particles: (dt/2) F/m and (dt/2) tau/I.
+struct Kicks {
+    dv: [[f64; 3]; PARTICLE_CHUNK],
+    dw: [[f64; 3]; PARTICLE_CHUNK],
+    n: usize,
+}
+
+impl Kicks {
+    fn new(n: usize) -> Kicks {
+        assert!(n <= PARTICLE_CHUNK);
+        Kicks {
+            dv: [[0.0; 3]; PARTICLE_CHUNK],
+            dw: [[0.0; 3]; PARTICLE_CHUNK],
+            n,
         }
-        if s > *hi {
-            *hi = s;
+    }
+
+    /// Particle k's kicks from its kick factors and F, tau.
+    #[inline(always)]
+    fn set(&mut self, k: usize, (kv, f): (f64, &[f64; 3]), (kw, t): (f64, &[f64; 3])) {
+        for d in 0..3 {
+            self.dv[k][d] = kv * f[d];
+            self.dw[k][d] = kw * t[d];
+        }
+    }
+
+    /// v += (dt/2) F/m, w += (dt/2) tau/I, over the block's coordinates.
+    fn apply(&self, v: &mut [[f64; 3]], w: &mut [[f64; 3]]) {
+        lanes(|| {
+            add_all(v.as_flattened_mut(), self.dv[..self.n].as_flattened());
+            add_all(w.as_flattened_mut(), self.dw[..self.n].as_flattened());
+        })
+    }
+}
+
+/// a += b, coordinate by coordinate.
+#[inline(always)]
+fn add_all(a: &mut [f64], b: &[f64]) {
+    for (a, b) in a.iter_mut().zip(b) {
+        *a += b;
+    }
+}
+
+/// Run `f` compiled for AVX2 where the CPU has it (its loops over coordinates then take four
+/// at a time; IEEE operations lane by lane, no contraction: the same bits on every path).
+#[inline(always)]
+fn lanes<R>(f: impl FnOnce() -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    {
+        #[target_feature(enable = "avx2")]
+        fn avx2<R>(f: impl FnOnce() -> R) -> R {
+            f()
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above)
+            return unsafe { avx2(f) };
+        }
+    }
+    f()
+}
+
+/// A block of particles as the drift sees it.
+struct Block<'a> {
+    x: &'a mut [[f64; 3]],
+    v: &'a mut [[f64; 3]],
+    w: &'a mut [[f64; 3]],
+    mass: &'a [f64],
+    x_build: &'a [[f64; 3]],
+}
+
+/// The initial half step of a block: v += (dt/2) F/m, x += dt v (wrapped), w += (dt/2)
+/// tau/I; tallies the displacement since the list build and the work rate of gravity.
+fn drift(domain: &Domain, bounds: &Boundaries, dt: f64, b: Block, kicks: &Kicks, tally: &mut Tally) {
+    let Block {
+        x,
+        v,
+        w,
+        mass,
+        x_build,
+    } = b;
+    lanes(|| {
+        add_all(v.as_flattened_mut(), kicks.dv[..kicks.n].as_flattened());
+        for (x, v) in x.as_flattened_mut().iter_mut().zip(v.as_flattened()) {
+            *x += dt * v;
+        }
+        for x in x.iter_mut() {
+            domain.wrap(x);
+        }
+        add_all(w.as_flattened_mut(), kicks.dw[..kicks.n].as_flattened());
+    });
+    let g = &bounds.gravity;
+    for (v, m) in v.iter().zip(mass) {
+        tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
+    }
+    for (x, x_build) in x.iter().zip(x_build) {
+        let s = domain.min_image([x[0] - x_build[0], x[1] - x_build[1], x[2] - x_build[2]]);
+        // (a plain comparison: s is never NaN, and the sign of a zero bound does not matter)
+        let bounds = tally
+            .displacement_min
+            .iter_mut()
+            .zip(&mut tally.displacement_max);
+        for ((lo, hi), s) in bounds.zip(s) {
+            if s < *lo {
+                *lo = s;
+            }
+            if s > *hi {
+                *hi = s;
+            }
         }
     }
 }
@@ -679,19 +680,20 @@ pub fn kick_drift(
         .enumerate()
         .map(|(c, ((xs, vs), ws))| {
             let mut tally = Tally::default();
-            for k in 0..xs.len() {
-                let i = c * PARTICLE_CHUNK + k;
-                drift(
-                    domain,
-                    bounds,
-                    dt,
-                    (kick_v[i], kick_w[i], mass[i]),
-                    (&mut xs[k], &mut vs[k], &mut ws[k]),
-                    (&force[i], &torque[i]),
-                    &x_build[i],
-                    &mut tally,
-                );
+            let (lo, n) = (c * PARTICLE_CHUNK, xs.len());
+            let mut kicks = Kicks::new(n);
+            for k in 0..n {
+                let i = lo + k;
+                kicks.set(k, (kick_v[i], &force[i]), (kick_w[i], &torque[i]));
             }
+            let block = Block {
+                x: xs,
+                v: vs,
+                w: ws,
+                mass: &mass[lo..lo + n],
+                x_build: &x_build[lo..lo + n],
+            };
+            drift(domain, bounds, dt, block, &kicks, &mut tally);
             tally
         })
         .collect_into_vec(tallies);

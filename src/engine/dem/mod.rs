@@ -55,6 +55,7 @@ pub mod params;
 pub mod prepare;
 pub mod reference;
 pub mod sampling;
+pub mod scan_lanes;
 
 pub use bodies::BodyState;
 pub use bond_order::BondSums;
