@@ -130,6 +130,26 @@ impl Grid {
         }
         (out, len)
     }
+
+    /// The neighbour cells of `c` along z (itself included) as at most two runs of
+    /// consecutive coordinates (lo, hi), inclusive: cells consecutive in z are consecutive in
+    /// [`Grid::index`], so a run is one range of the cell-sorted particles.
+    #[inline]
+    pub(super) fn z_runs(&self, c: usize) -> ([(usize, usize); 3], usize) {
+        let (mut z, len) = self.around(2, c);
+        z[..len].sort_unstable();
+        let mut runs = [(0, 0); 3];
+        let mut count = 0;
+        for &t in &z[..len] {
+            if count > 0 && runs[count - 1].1 + 1 == t {
+                runs[count - 1].1 = t;
+            } else {
+                runs[count] = (t, t);
+                count += 1;
+            }
+        }
+        (runs, count)
+    }
 }
 
 /// Counts of a build, for the statistics.
@@ -329,17 +349,17 @@ impl NeighbourList {
                     let cc = grid.coord(&xb[i]);
                     let (ax, nx) = grid.around(0, cc[0]);
                     let (ay, ny) = grid.around(1, cc[1]);
-                    let (az, nz) = grid.around(2, cc[2]);
+                    let (zr, nz) = grid.z_runs(cc[2]);
                     for &cx in &ax[..nx] {
                         for &cy in &ay[..ny] {
-                            for &cz in &az[..nz] {
-                                let cell = grid.index([cx, cy, cz]);
-                                let (lo, hi) = (cell_start[cell], cell_start[cell + 1]);
+                            for &(z_lo, z_hi) in &zr[..nz] {
+                                // the run's cells are one range of particles; each is
+                                // written at the row's end, which only a partner keeps
+                                let lo = cell_start[grid.index([cx, cy, z_lo])] as usize;
+                                let hi = cell_start[grid.index([cx, cy, z_hi]) + 1] as usize;
+                                let mut at = rows.len();
+                                rows.resize(at + (hi - lo), 0);
                                 for j in lo..hi {
-                                    let j = j as usize;
-                                    if j == i {
-                                        continue;
-                                    }
                                     let d = domain.min_image([
                                         xb[i][0] - xb[j][0],
                                         xb[i][1] - xb[j][1],
@@ -347,10 +367,10 @@ impl NeighbourList {
                                     ]);
                                     let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                                     let cut = radius[i] + radius[j] + skin;
-                                    if rsq < cut * cut {
-                                        rows.push(j as u32);
-                                    }
+                                    rows[at] = j as u32;
+                                    at += ((rsq < cut * cut) & (j != i)) as usize;
                                 }
+                                rows.truncate(at);
                             }
                         }
                     }
