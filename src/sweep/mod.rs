@@ -166,17 +166,21 @@ pub fn override_tag(overrides: &[String]) -> String {
 pub fn open_results(dir: &Path) -> Result<(Sweep, SweepDirs), SpecError> {
     let file = dir.join(RESOLVED_SWEEP_FILE);
     let sweep = load_sweep(&file, &[])?;
-    // DIR/<sweep>/runs/<overrides>/ shares the jobs of DIR/<sweep>/, which holds its own
-    // resolved sweep file; a results root that merely happens to be called `runs`
-    // (runs/<sweep>/) keeps its jobs beside its tables
-    let sweep_dir = dir
-        .parent()
-        .filter(|p| p.file_name().is_some_and(|n| n == "runs"))
-        .and_then(|p| p.parent())
-        .filter(|p| p.join(RESOLVED_SWEEP_FILE).is_file());
-    let jobs = match sweep_dir {
-        Some(p) => p.join("jobs"),
-        None => dir.join("jobs"),
+    // DIR/<sweep>/runs/<overrides>/ shares the jobs of DIR/<sweep>/: recognised by the
+    // overrides its resolved sweep records (their tag is this directory's name), so that a
+    // results root that merely happens to be called `runs` (runs/<sweep>/) keeps its jobs
+    // beside its tables
+    let is_override_dir = !sweep.spec.overrides.is_empty()
+        && dir
+            .file_name()
+            .is_some_and(|n| n.to_string_lossy() == override_tag(&sweep.spec.overrides))
+        && dir
+            .parent()
+            .and_then(|p| p.file_name())
+            .is_some_and(|n| n == "runs");
+    let jobs = match dir.parent().and_then(|p| p.parent()) {
+        Some(sweep_dir) if is_override_dir => sweep_dir.join("jobs"),
+        _ => dir.join("jobs"),
     };
     Ok((
         sweep,
