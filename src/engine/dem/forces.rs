@@ -334,7 +334,6 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
                     output.touch[q] = false;
                 }
             }
-
         }
     });
     touching
@@ -611,7 +610,14 @@ struct Block<'a> {
 
 /// The initial half step of a block: v += (dt/2) F/m, x += dt v (wrapped), w += (dt/2)
 /// tau/I; tallies the displacement since the list build and the work rate of gravity.
-fn drift(domain: &Domain, bounds: &Boundaries, dt: f64, b: Block, kicks: &Kicks, tally: &mut Tally) {
+fn drift(
+    domain: &Domain,
+    bounds: &Boundaries,
+    dt: f64,
+    b: Block,
+    kicks: &Kicks,
+    tally: &mut Tally,
+) {
     let Block {
         x,
         v,

@@ -159,12 +159,18 @@ mod tests {
                     assert_eq!(lanes.del[k][l].to_bits(), del[k].to_bits());
                 }
                 assert_eq!(lanes.rsq[l].to_bits(), rsq.to_bits());
-                assert_eq!((lanes.radius[0][l], lanes.radius[1][l]), (radius[a], radius[b]));
+                assert_eq!(
+                    (lanes.radius[0][l], lanes.radius[1][l]),
+                    (radius[a], radius[b])
+                );
                 l += 1;
             }
             assert_eq!(count, l, "round {round}");
             kept += count;
         }
-        assert!(kept > 500 && across > 20, "{kept} candidates, {across} across a boundary");
+        assert!(
+            kept > 500 && across > 20,
+            "{kept} candidates, {across} across a boundary"
+        );
     }
 }
