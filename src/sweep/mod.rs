@@ -166,22 +166,17 @@ pub fn override_tag(overrides: &[String]) -> String {
 pub fn open_results(dir: &Path) -> Result<(Sweep, SweepDirs), SpecError> {
     let file = dir.join(RESOLVED_SWEEP_FILE);
     let sweep = load_sweep(&file, &[])?;
-    // DIR/<sweep>/runs/<overrides>/ shares the jobs of DIR/<sweep>/: recognised by the
-    // overrides its resolved sweep records (their tag is this directory's name), so that a
-    // results root that merely happens to be called `runs` (runs/<sweep>/) keeps its jobs
-    // beside its tables
-    let is_override_dir = !sweep.spec.overrides.is_empty()
-        && dir
-            .file_name()
-            .is_some_and(|n| n.to_string_lossy() == override_tag(&sweep.spec.overrides))
-        && dir
-            .parent()
-            .and_then(|p| p.file_name())
-            .is_some_and(|n| n == "runs");
-    let jobs = match dir.parent().and_then(|p| p.parent()) {
-        Some(sweep_dir) if is_override_dir => sweep_dir.join("jobs"),
-        _ => dir.join("jobs"),
-    };
+    // the layout is `Sweep::results_dir`'s (DIR = <root>/<name>/, or <root>/<name>/runs/
+    // <overrides>/ whose jobs are <root>/<name>/jobs/): take the jobs of the root the sweep
+    // was run under; a directory moved out of that layout keeps its jobs beside its tables
+    let levels = if sweep.spec.overrides.is_empty() { 1 } else { 3 };
+    let full = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
+    let jobs = full
+        .ancestors()
+        .nth(levels)
+        .map(|root| sweep.results_dir(root))
+        .filter(|laid_out| laid_out.tables == full)
+        .map_or_else(|| dir.join("jobs"), |laid_out| laid_out.jobs);
     Ok((
         sweep,
         SweepDirs {
