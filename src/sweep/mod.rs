@@ -169,7 +169,11 @@ pub fn open_results(dir: &Path) -> Result<(Sweep, SweepDirs), SpecError> {
     // the layout is `Sweep::results_dir`'s (DIR = <root>/<name>/, or <root>/<name>/runs/
     // <overrides>/ whose jobs are <root>/<name>/jobs/): take the jobs of the root the sweep
     // was run under; a directory moved out of that layout keeps its jobs beside its tables
-    let levels = if sweep.spec.overrides.is_empty() { 1 } else { 3 };
+    let levels = if sweep.spec.overrides.is_empty() {
+        1
+    } else {
+        3
+    };
     let full = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
     let jobs = full
         .ancestors()

@@ -54,12 +54,6 @@ impl Domain {
         d
     }
 
-    /// Half the periods of x, y, z (infinite along a direction that is not periodic).
-    #[inline]
-    pub fn half_periods(&self) -> [f64; 3] {
-        self.half
-    }
-
     /// Bring a position moved by at most one period back into the box (x when periodic, z).
     #[inline(always)]
     pub fn wrap(&self, x: &mut [f64; 3]) {

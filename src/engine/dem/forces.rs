@@ -26,6 +26,7 @@ use super::contact_lanes::ContactLanes;
 use super::domain::Domain;
 use super::neighbours::{NeighbourList, PairOut};
 use super::scan_lanes::{self, Candidates, SCAN_BLOCK};
+use super::simd::with_avx2;
 use rayon::prelude::*;
 use std::marker::PhantomData;
 
@@ -566,10 +567,13 @@ impl Kicks {
 
     /// v += (dt/2) F/m, w += (dt/2) tau/I, over the block's coordinates.
     fn apply(&self, v: &mut [[f64; 3]], w: &mut [[f64; 3]]) {
-        lanes(|| {
-            add_all(v.as_flattened_mut(), self.dv[..self.n].as_flattened());
-            add_all(w.as_flattened_mut(), self.dw[..self.n].as_flattened());
-        })
+        with_avx2(
+            #[inline(always)]
+            || {
+                add_all(v.as_flattened_mut(), self.dv[..self.n].as_flattened());
+                add_all(w.as_flattened_mut(), self.dw[..self.n].as_flattened());
+            },
+        )
     }
 }
 
@@ -579,24 +583,6 @@ fn add_all(a: &mut [f64], b: &[f64]) {
     for (a, b) in a.iter_mut().zip(b) {
         *a += b;
     }
-}
-
-/// Run `f` compiled for AVX2 where the CPU has it (its loops over coordinates then take four
-/// at a time; IEEE operations lane by lane, no contraction: the same bits on every path).
-#[inline(always)]
-fn lanes<R>(f: impl FnOnce() -> R) -> R {
-    #[cfg(target_arch = "x86_64")]
-    {
-        #[target_feature(enable = "avx2")]
-        fn avx2<R>(f: impl FnOnce() -> R) -> R {
-            f()
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above)
-            return unsafe { avx2(f) };
-        }
-    }
-    f()
 }
 
 /// A block of particles as the drift sees it.
@@ -625,16 +611,19 @@ fn drift(
         mass,
         x_build,
     } = b;
-    lanes(|| {
-        add_all(v.as_flattened_mut(), kicks.dv[..kicks.n].as_flattened());
-        for (x, v) in x.as_flattened_mut().iter_mut().zip(v.as_flattened()) {
-            *x += dt * v;
-        }
-        for x in x.iter_mut() {
-            domain.wrap(x);
-        }
-        add_all(w.as_flattened_mut(), kicks.dw[..kicks.n].as_flattened());
-    });
+    with_avx2(
+        #[inline(always)]
+        || {
+            add_all(v.as_flattened_mut(), kicks.dv[..kicks.n].as_flattened());
+            for (x, v) in x.as_flattened_mut().iter_mut().zip(v.as_flattened()) {
+                *x += dt * v;
+            }
+            for x in x.iter_mut() {
+                domain.wrap(x);
+            }
+            add_all(w.as_flattened_mut(), kicks.dw[..kicks.n].as_flattened());
+        },
+    );
     let g = &bounds.gravity;
     for (v, m) in v.iter().zip(mass) {
         tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);

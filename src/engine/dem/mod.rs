@@ -56,6 +56,7 @@ pub mod prepare;
 pub mod reference;
 pub mod sampling;
 pub mod scan_lanes;
+pub mod simd;
 
 pub use bodies::BodyState;
 pub use bond_order::BondSums;

@@ -11,6 +11,7 @@
 
 use super::contact_lanes::{BATCH, ContactLanes};
 use super::domain::Domain;
+use super::simd::with_avx2;
 
 /// Pairs per block of the scan: a block's candidates fill at most one batch of lanes.
 pub const SCAN_BLOCK: usize = BATCH;
@@ -48,24 +49,10 @@ pub fn scan(
     lanes: &mut ContactLanes,
 ) -> usize {
     assert!(pairs.len() <= SCAN_BLOCK && touch.len() == pairs.len());
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        #[target_feature(enable = "avx2")]
-        fn avx2(
-            domain: &Domain,
-            x: &[[f64; 3]],
-            radius: &[f64],
-            pairs: &[[u32; 2]],
-            touch: &[bool],
-            out: &mut Candidates,
-            lanes: &mut ContactLanes,
-        ) -> usize {
-            scan_scalar(domain, x, radius, pairs, touch, out, lanes)
-        }
-        // SAFETY: the CPU has AVX2 (checked just above)
-        return unsafe { avx2(domain, x, radius, pairs, touch, out, lanes) };
-    }
-    scan_scalar(domain, x, radius, pairs, touch, out, lanes)
+    with_avx2(
+        #[inline(always)]
+        || scan_scalar(domain, x, radius, pairs, touch, out, lanes),
+    )
 }
 
 /// The scan itself (see the module's doc).
