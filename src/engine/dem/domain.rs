@@ -54,6 +54,13 @@ impl Domain {
         d
     }
 
+    /// The half periods (x, y, z): a separation component beyond one is moved by a period in
+    /// [`Self::min_image`] (infinite where no image is taken).
+    #[inline(always)]
+    pub fn half_periods(&self) -> [f64; 3] {
+        self.half
+    }
+
     /// Bring a position moved by at most one period back into the box (x when periodic, z).
     #[inline(always)]
     pub fn wrap(&self, x: &mut [f64; 3]) {

@@ -283,7 +283,11 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
         for block in (base..end).step_by(SCAN_BLOCK) {
             let stop = end.min(block + SCAN_BLOCK);
             let touch = &output.touch[block - base..stop - base];
-            let n = scan_lanes::scan(domain, x, radius, &pairs[block..stop], touch, found, lanes);
+            let listed = scan_lanes::Listed {
+                pairs: &pairs[block..stop],
+                touch,
+            };
+            let n = scan_lanes::scan(domain, x, radius, listed, found, lanes);
             // the rest of the candidates' inputs
             for l in 0..n {
                 let q = block - base + found.place[l] as usize;

@@ -3,15 +3,20 @@
 //! separation into the lanes of [`ContactLanes`] in pair order, without a branch on the
 //! contact test (most listed pairs do not touch, and which do is unpredictable).
 //!
-//! Each pair's del = min_image(x_a - x_b) and r^2 = (del_x^2 + del_y^2) + del_z^2 are formed
-//! exactly as [`Domain::min_image`] and the scalar law form them, and written to the next
-//! free lane, which only a candidate keeps: the count moves on by the contact test, not by a
-//! branch. Compiled for AVX2 where the CPU has it. (Eight pairs at a time with AVX-512
-//! gathers and compress was measured slower on this machine's Zen 4: docs/performance.md.)
+//! Two loops. The test: each pair's del = min_image(x_a - x_b) and r^2 =
+//! (del_x^2 + del_y^2) + del_z^2, formed exactly as [`Domain::min_image`] and the scalar law form them; only the
+//! candidates' places are kept (a place is written to the next free entry, which only a
+//! candidate keeps: the count moves on by the test, not by a branch). Where the CPU has AVX2
+//! the test takes four pairs at a time: their positions loaded as rows, subtracted, turned
+//! into columns, and the places of the candidates among the four written with a table
+//! ([`COMPRESS`]). Then, for the candidates alone (a quarter of the listed pairs), del and r^2
+//! are formed again, with the same operations, into the lanes. (Eight pairs at a time with
+//! AVX-512 gathers and compress was measured slower on this machine's Zen 4, and so was
+//! keeping the vector loop's separations in the lanes instead of forming them again:
+//! docs/performance.md.)
 
 use super::contact_lanes::{BATCH, ContactLanes};
 use super::domain::Domain;
-use super::simd::with_avx2;
 
 /// Pairs per block of the scan: a block's candidates fill at most one batch of lanes.
 pub const SCAN_BLOCK: usize = BATCH;
@@ -36,55 +41,207 @@ impl Default for Candidates {
     }
 }
 
-/// Scan a block of at most [`SCAN_BLOCK`] listed pairs, `touch` their touching flags: the
-/// candidates' places and particles into `out`, their del, r^2, R_a and R_b into the lanes'
-/// first lanes. Returns the number of candidates.
+/// A block of listed pairs, as the scan reads them.
+#[derive(Clone, Copy, Debug)]
+pub struct Listed<'a> {
+    /// (owner, other), working indices
+    pub pairs: &'a [[u32; 2]],
+    /// whether each touched at its last evaluation
+    pub touch: &'a [bool],
+}
+
+/// Scan a block of at most [`SCAN_BLOCK`] listed pairs: the candidates' places and particles
+/// into `out`, their del, r^2, R_a and R_b into the lanes' first lanes. Returns the number
+/// of candidates. Four pairs at a time in AVX2 vectors where the CPU has AVX2, else
+/// [`scan_scalar`]; the same candidates and bits either way.
 pub fn scan(
     domain: &Domain,
     x: &[[f64; 3]],
     radius: &[f64],
-    pairs: &[[u32; 2]],
-    touch: &[bool],
+    listed: Listed,
     out: &mut Candidates,
     lanes: &mut ContactLanes,
 ) -> usize {
-    assert!(pairs.len() <= SCAN_BLOCK && touch.len() == pairs.len());
-    with_avx2(
-        #[inline(always)]
-        || scan_scalar(domain, x, radius, pairs, touch, out, lanes),
-    )
+    let n = candidates(domain, x, radius, listed, &mut out.place);
+    separations(domain, x, radius, listed.pairs, n, out, lanes);
+    n
 }
 
-/// The scan itself (see the module's doc).
-#[inline(always)]
+/// The candidates' places in the block, in order; returns their number.
+pub fn candidates(
+    domain: &Domain,
+    x: &[[f64; 3]],
+    radius: &[f64],
+    listed: Listed,
+    place: &mut [u32; BATCH],
+) -> usize {
+    let Listed { pairs, touch } = listed;
+    assert!(pairs.len() <= SCAN_BLOCK && touch.len() == pairs.len());
+    let (mut done, mut n) = (0, 0);
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2 (checked just above)
+        (done, n) = unsafe { candidates_avx2(domain, x, radius, listed, place) };
+    }
+    candidates_scalar(domain, x, radius, listed, done, n, place)
+}
+
+/// The scan pair by pair (the reference the vector scan is tested against).
 pub fn scan_scalar(
     domain: &Domain,
     x: &[[f64; 3]],
     radius: &[f64],
-    pairs: &[[u32; 2]],
-    touch: &[bool],
+    listed: Listed,
     out: &mut Candidates,
     lanes: &mut ContactLanes,
 ) -> usize {
-    let mut n = 0;
-    for (place, (&[a, b], &touched)) in pairs.iter().zip(touch).enumerate() {
-        let (i, j) = (a as usize, b as usize);
+    assert!(listed.pairs.len() <= SCAN_BLOCK);
+    let n = candidates_scalar(domain, x, radius, listed, 0, 0, &mut out.place);
+    separations(domain, x, radius, listed.pairs, n, out, lanes);
+    n
+}
+
+/// The candidate test of pairs `from ..`, after `n` candidates found: each pair's place is
+/// written to the next free entry, which only a candidate keeps (the count moves on by the
+/// test, not by a branch). Returns the number of candidates.
+fn candidates_scalar(
+    domain: &Domain,
+    x: &[[f64; 3]],
+    radius: &[f64],
+    listed: Listed,
+    from: usize,
+    mut n: usize,
+    place: &mut [u32; BATCH],
+) -> usize {
+    let Listed { pairs, touch } = listed;
+    for p in from..pairs.len() {
+        let (i, j) = (pairs[p][0] as usize, pairs[p][1] as usize);
         let del = domain.min_image([x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]]);
         let rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-        let (ra, rb) = (radius[i], radius[j]);
-        let radsum = ra + rb;
-        for k in 0..3 {
-            lanes.del[k][n] = del[k];
-        }
-        lanes.rsq[n] = rsq;
-        lanes.radius[0][n] = ra;
-        lanes.radius[1][n] = rb;
-        out.place[n] = place as u32;
-        out.a[n] = a;
-        out.b[n] = b;
-        n += ((rsq < radsum * radsum) | touched) as usize;
+        let radsum = radius[i] + radius[j];
+        place[n] = p as u32;
+        n += ((rsq < radsum * radsum) | touch[p]) as usize;
     }
     n
+}
+
+/// The candidates' particles, del, r^2 and radii (del and r^2 formed again, with the same
+/// operations as the test).
+fn separations(
+    domain: &Domain,
+    x: &[[f64; 3]],
+    radius: &[f64],
+    pairs: &[[u32; 2]],
+    n: usize,
+    out: &mut Candidates,
+    lanes: &mut ContactLanes,
+) {
+    for l in 0..n {
+        let [a, b] = pairs[out.place[l] as usize];
+        let (i, j) = (a as usize, b as usize);
+        let del = domain.min_image([x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]]);
+        for k in 0..3 {
+            lanes.del[k][l] = del[k];
+        }
+        lanes.rsq[l] = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+        lanes.radius[0][l] = radius[i];
+        lanes.radius[1][l] = radius[j];
+        out.a[l] = a;
+        out.b[l] = b;
+    }
+}
+
+/// For each subset of four pairs (bit k: the group's pair k is a candidate), the places of
+/// its members in order.
+const COMPRESS: [[u32; 4]; 16] = {
+    let mut t = [[0u32; 4]; 16];
+    let mut m = 0;
+    while m < 16 {
+        let (mut k, mut n) = (0, 0);
+        while k < 4 {
+            if m & (1 << k) != 0 {
+                t[m][n] = k as u32;
+                n += 1;
+            }
+            k += 1;
+        }
+        m += 1;
+    }
+    t
+};
+
+/// The candidate test four pairs at a time: returns (pairs done, candidates found).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn candidates_avx2(
+    domain: &Domain,
+    x: &[[f64; 3]],
+    radius: &[f64],
+    listed: Listed,
+    place: &mut [u32; BATCH],
+) -> (usize, usize) {
+    use std::arch::x86_64::*;
+    let Listed { pairs, touch } = listed;
+    let groups = pairs.len() / 4;
+    let half = domain.half_periods();
+    let ext = domain.extent;
+    let (hx, hz) = (_mm256_set1_pd(half[0]), _mm256_set1_pd(half[2]));
+    let (nhx, nhz) = (_mm256_set1_pd(-half[0]), _mm256_set1_pd(-half[2]));
+    let (lx, lz) = (_mm256_set1_pd(ext[0]), _mm256_set1_pd(ext[2]));
+    let three = _mm256_set_epi64x(0, -1, -1, -1);
+    let mut n = 0usize;
+    for g in 0..groups {
+        let p = 4 * g;
+        let pos = |i: u32| {
+            let i = i as usize;
+            assert!(i < x.len());
+            // SAFETY: in bounds; the masked lane is not read
+            unsafe { _mm256_maskload_pd(x.as_ptr().add(i) as *const f64, three) }
+        };
+        let d: [__m256d; 4] =
+            std::array::from_fn(|k| _mm256_sub_pd(pos(pairs[p + k][0]), pos(pairs[p + k][1])));
+        let t0 = _mm256_unpacklo_pd(d[0], d[1]);
+        let t1 = _mm256_unpackhi_pd(d[0], d[1]);
+        let t2 = _mm256_unpacklo_pd(d[2], d[3]);
+        let t3 = _mm256_unpackhi_pd(d[2], d[3]);
+        let mut dx = _mm256_permute2f128_pd::<0x20>(t0, t2);
+        let dy = _mm256_permute2f128_pd::<0x20>(t1, t3);
+        let mut dz = _mm256_permute2f128_pd::<0x31>(t0, t2);
+        // the minimum image, as Domain::min_image
+        let image = |d: __m256d, h, nh, l| {
+            let up = _mm256_blendv_pd(d, _mm256_add_pd(d, l), _mm256_cmp_pd::<_CMP_LT_OQ>(d, nh));
+            _mm256_blendv_pd(up, _mm256_sub_pd(d, l), _mm256_cmp_pd::<_CMP_GT_OQ>(d, h))
+        };
+        dx = image(dx, hx, nhx, lx);
+        dz = image(dz, hz, nhz, lz);
+        let rsq = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+            _mm256_mul_pd(dz, dz),
+        );
+        let r = |k: usize| radius[pairs[p + k][0] as usize] + radius[pairs[p + k][1] as usize];
+        let radsum = _mm256_set_pd(r(3), r(2), r(1), r(0));
+        let near = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(
+            rsq,
+            _mm256_mul_pd(radsum, radsum),
+        ));
+        let t = &touch[p..p + 4];
+        let m = near as usize
+            | (t[0] as usize)
+            | (t[1] as usize) << 1
+            | (t[2] as usize) << 2
+            | (t[3] as usize) << 3;
+        assert!(n + 4 <= BATCH);
+        // SAFETY: the tables' rows are 16 and 32 bytes; n + 4 <= BATCH (just checked)
+        unsafe {
+            let at = _mm_add_epi32(
+                _mm_loadu_si128(COMPRESS[m].as_ptr() as *const __m128i),
+                _mm_set1_epi32(p as i32),
+            );
+            _mm_storeu_si128(place.as_mut_ptr().add(n) as *mut __m128i, at);
+        }
+        n += m.count_ones() as usize;
+    }
+    (4 * groups, n)
 }
 
 #[cfg(test)]
@@ -128,7 +285,17 @@ mod tests {
                 .collect();
             let touch: Vec<bool> = (0..len).map(|_| rng.random::<f64>() < 0.3).collect();
             let (mut found, mut lanes) = (Candidates::default(), ContactLanes::default());
-            let count = scan(&domain, &x, &radius, &pairs, &touch, &mut found, &mut lanes);
+            let listed = Listed {
+                pairs: &pairs,
+                touch: &touch,
+            };
+            let count = scan(&domain, &x, &radius, listed, &mut found, &mut lanes);
+            // the vector scan (where this CPU has it) and the pair-by-pair one agree
+            let (mut plain, mut plain_lanes) = (Candidates::default(), ContactLanes::default());
+            let plain_count =
+                scan_scalar(&domain, &x, &radius, listed, &mut plain, &mut plain_lanes);
+            assert_eq!(count, plain_count, "round {round}");
+            assert_eq!(found.place[..count], plain.place[..count]);
             let mut l = 0;
             for (place, (&[a, b], &t)) in pairs.iter().zip(&touch).enumerate() {
                 let (a, b) = (a as usize, b as usize);
