@@ -622,31 +622,15 @@ fn drift(
             for (x, v) in x.as_flattened_mut().iter_mut().zip(v.as_flattened()) {
                 *x += dt * v;
             }
-            for x in x.iter_mut() {
-                domain.wrap(x);
-            }
+            domain.wrap_all(x);
             add_all(w.as_flattened_mut(), kicks.dw[..kicks.n].as_flattened());
+            let (lo, hi) = (&mut tally.displacement_min, &mut tally.displacement_max);
+            domain.widen_displacement_box(x, x_build, lo, hi);
         },
     );
     let g = &bounds.gravity;
     for (v, m) in v.iter().zip(mass) {
         tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
-    }
-    for (x, x_build) in x.iter().zip(x_build) {
-        let s = domain.min_image([x[0] - x_build[0], x[1] - x_build[1], x[2] - x_build[2]]);
-        // (a plain comparison: s is never NaN, and the sign of a zero bound does not matter)
-        let bounds = tally
-            .displacement_min
-            .iter_mut()
-            .zip(&mut tally.displacement_max);
-        for ((lo, hi), s) in bounds.zip(s) {
-            if s < *lo {
-                *lo = s;
-            }
-            if s > *hi {
-                *hi = s;
-            }
-        }
     }
 }
 
