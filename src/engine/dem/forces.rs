@@ -628,10 +628,23 @@ fn drift(
             domain.widen_displacement_box(x, x_build, lo, hi);
         },
     );
+    // sum m g . v over the block in four interleaved partial sums (particle k into sum
+    // k mod 4, then ((s0 + s1) + (s2 + s3))): four chains of additions instead of one, in
+    // an order fixed by the block alone
     let g = &bounds.gravity;
-    for (v, m) in v.iter().zip(mass) {
-        tally.gravity_power += m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
+    let power = |v: &[f64; 3], m: f64| m * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
+    let mut sums = [0.0f64; 4];
+    let (fours, fours_mass) = (v.chunks_exact(4), mass.chunks_exact(4));
+    let rest = fours.remainder().iter().zip(fours_mass.remainder());
+    for (v, m) in fours.zip(fours_mass) {
+        for k in 0..4 {
+            sums[k] += power(&v[k], m[k]);
+        }
     }
+    for (k, (v, &m)) in rest.enumerate() {
+        sums[k] += power(v, m);
+    }
+    tally.gravity_power += (sums[0] + sums[1]) + (sums[2] + sums[3]);
 }
 
 /// The initial half step of every particle (when it could not be fused with the previous
