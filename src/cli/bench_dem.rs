@@ -162,8 +162,8 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
     let contacts = (after.contacts - before.contacts) as f64;
     let now = engine.stage_times();
     eprintln!(
-        "{}: {:.2} s timed: pair forces {:.2} s, particle pass (gather, walls, gravity, kicks, \
-         drifts) {:.2} s, list rebuilds {:.2} s ({} rebuilds), samples {:.2} s; {:.2} listed \
+        "{}: {:.3} s timed: pair forces {:.3} s, particle pass (gather, walls, gravity, kicks, \
+         drifts) {:.3} s, list rebuilds {:.3} s ({} rebuilds), samples {:.3} s; {:.2} listed \
          pairs per particle at the end",
         w.name,
         secs,
