@@ -91,7 +91,8 @@ impl ContactLanes {
         self.evaluate_lanes::<UPDATE>(law, n);
     }
 
-    /// The law of [`super::contact`] lane by lane (its doc has the equations).
+    /// The law of [`super::contact`] lane by lane (its doc has the equations), in lanes
+    /// 0 .. n, n a multiple of eight.
     #[inline(always)]
     fn evaluate_lanes<const UPDATE: bool>(&mut self, law: &ContactLaw, n: usize) {
         let ContactLaw {
@@ -102,17 +103,25 @@ impl ContactLanes {
             mu,
             dt,
         } = *law;
-        let [dx, dy, dz] = &self.del;
-        let [ri, rj] = &self.radius;
-        let [mi, mj] = &self.mass;
-        let [vrx, vry, vrz] = &self.vr;
-        let [wsx, wsy, wsz] = &self.spin;
-        let [sx, sy, sz] = &mut self.shear;
-        let [fx, fy, fz] = &mut self.force;
-        let [tx, ty, tz] = &mut self.tor;
+        // n is a whole number of vectors of eight lanes (the caller rounds it up), said
+        // here, and every array cut to the n lanes: the loop then has no bounds checks and no
+        // lanes left over, so the compiler's vector loop runs all of it (without this, some
+        // builds, e.g. with one codegen unit, left the last eight lanes of every batch to a
+        // scalar remainder loop, and their pair kernel was 15-20 % slower:
+        // docs/performance.md)
+        assert!(n.is_multiple_of(8) && n <= BATCH, "whole vectors of lanes");
+        let [dx, dy, dz] = self.del.each_ref().map(|a| &a[..n]);
+        let rsq = &self.rsq[..n];
+        let [ri, rj] = self.radius.each_ref().map(|a| &a[..n]);
+        let [mi, mj] = self.mass.each_ref().map(|a| &a[..n]);
+        let [vrx, vry, vrz] = self.vr.each_ref().map(|a| &a[..n]);
+        let [wsx, wsy, wsz] = self.spin.each_ref().map(|a| &a[..n]);
+        let [sx, sy, sz] = self.shear.each_mut().map(|a| &mut a[..n]);
+        let [fx, fy, fz] = self.force.each_mut().map(|a| &mut a[..n]);
+        let [tx, ty, tz] = self.tor.each_mut().map(|a| &mut a[..n]);
         for l in 0..n {
             let (delx, dely, delz) = (dx[l], dy[l], dz[l]);
-            let r = self.rsq[l].sqrt();
+            let r = rsq[l].sqrt();
             let rinv = 1.0 / r;
             let rsqinv = rinv * rinv;
             let vr = [vrx[l], vry[l], vrz[l]];
@@ -261,10 +270,10 @@ mod tests {
                     let mut b = lanes.clone();
                     if update {
                         a.evaluate::<true>(&law, n);
-                        b.evaluate_lanes::<true>(&law, n);
+                        b.evaluate_lanes::<true>(&law, n.next_multiple_of(8));
                     } else {
                         a.evaluate::<false>(&law, n);
-                        b.evaluate_lanes::<false>(&law, n);
+                        b.evaluate_lanes::<false>(&law, n.next_multiple_of(8));
                     }
                     for (l, (del, rsq, rad, v, m, shear)) in scalar.iter().enumerate() {
                         let mut s = *shear;
