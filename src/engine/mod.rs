@@ -12,6 +12,7 @@ pub mod edmd;
 pub mod envelope;
 pub mod free_paths;
 pub mod lga;
+pub(crate) mod prefetch;
 pub mod registry;
 
 use serde::{Deserialize, Serialize};

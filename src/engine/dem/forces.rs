@@ -27,6 +27,7 @@ use super::domain::Domain;
 use super::neighbours::{NeighbourList, PairOut};
 use super::scan_lanes::{self, Candidates, SCAN_BLOCK};
 use super::simd::with_avx2;
+use crate::engine::prefetch::prefetch_at;
 use rayon::prelude::*;
 use std::marker::PhantomData;
 
@@ -293,8 +294,8 @@ fn owners(input: &PairInput, lo: usize, hi: usize, output: PairOutput) -> u64 {
                 // the partner's velocities are scattered in memory: ask for those of a
                 // candidate further on while this one is filled
                 let ahead = found.b[(l + PREFETCH_AHEAD).min(n - 1)] as usize;
-                prefetch(&v[ahead]);
-                prefetch(&w[ahead]);
+                prefetch_at(v, ahead);
+                prefetch_at(w, ahead);
                 let q = block - base + found.place[l] as usize;
                 let (a, b) = (found.a[l] as usize, found.b[l] as usize);
                 let (ra, rb) = (lanes.radius[0][l], lanes.radius[1][l]);
@@ -359,17 +360,6 @@ thread_local! {
 /// How many candidates ahead the fill loop asks for a partner's velocities (4, 8 and 16
 /// measured: 8 the fastest, docs/performance.md).
 const PREFETCH_AHEAD: usize = 8;
-
-/// Ask the CPU to bring `x`'s cache line closer (a hint: no effect on any result).
-#[inline(always)]
-fn prefetch<T>(x: &T) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch reads nothing and faults on nothing
-    unsafe {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        _mm_prefetch::<_MM_HINT_T0>(x as *const T as *const i8);
-    }
-}
 
 /// A contact's part of the force and torque on the particle of radius `r` it was computed
 /// for (the owner of a pair, or the particle at a wall or the floor): F += force,

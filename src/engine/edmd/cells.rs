@@ -8,7 +8,7 @@
 //! [a, W - a]: leaving an edge cell through its outer face is a wall collision.
 
 use super::images::Image;
-use super::prefetch::prefetch_at;
+use crate::engine::prefetch::prefetch_at;
 use std::mem::MaybeUninit;
 use strength_reduce::StrengthReducedU32;
 

@@ -22,7 +22,6 @@ mod images;
 pub mod motion;
 pub mod neighbours;
 mod params;
-mod prefetch;
 pub mod queue;
 pub mod reference;
 mod search;

@@ -9,7 +9,7 @@
 //! per event. The stride doubles when a list overflows (rare; deterministic in the state).
 
 pub use super::images::Image;
-use super::prefetch::prefetch_at;
+use crate::engine::prefetch::prefetch_at;
 
 /// One entry of a list: partner slot (27 bits) and the image of the partner that is near.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

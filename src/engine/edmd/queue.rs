@@ -13,7 +13,7 @@
 //! simple version (a B-tree) that tests check both against. All pop in exactly the same
 //! order: ties in time go to the smaller index.
 
-use super::prefetch::prefetch_at;
+use crate::engine::prefetch::prefetch_at;
 use std::collections::BTreeSet;
 
 /// The interface both queues offer.

@@ -5,10 +5,10 @@
 
 use super::super::motion::{ball_exit_time, ball_exit_time_bound, linear_exit_time};
 use super::super::neighbours::Neighbour;
-use super::super::prefetch::prefetch_at;
 use super::super::search::{KeptNeighbours, KeptPairs};
 use super::{EdmdEngine, EventKind, NO_PARTNER, PairCandidate, collision};
 use crate::engine::edmd::EdmdParams;
+use crate::engine::prefetch::prefetch_at;
 
 /// How the engine finds collision partners. Both give the same dynamics; they differ in speed
 /// (and in round-off, so a run is bitwise reproducible only with the same choices, which a run

@@ -10,10 +10,10 @@ use super::collision::{self, ContactLaw, SphereVelocity};
 use super::images::ImageShifts;
 use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
-use super::prefetch::prefetch_at;
 use super::queue::{EngineQueue, EventQueue};
 use super::search_policy::SearchPolicy;
 use super::setup;
+use crate::engine::prefetch::prefetch_at;
 use crate::engine::{
     Content, Engine, EngineDef, EngineError, Particles, Progress, Snapshot, StopAt,
 };
