@@ -18,6 +18,10 @@ use super::contact::ContactLaw;
 /// Pairs per batch.
 pub const BATCH: usize = 128;
 
+/// Lanes per vector of the widest path (AVX-512: eight f64); the law runs in whole vectors
+/// (BATCH is a whole number of them).
+const VECTOR: usize = 8;
+
 /// One batch of pair contacts, a quantity per array, a pair per index (lane).
 #[derive(Clone, Debug)]
 pub struct ContactLanes {
@@ -61,7 +65,7 @@ impl ContactLanes {
     /// The law in lanes 0 .. n (rounded up to a whole vector; n <= [`BATCH`]).
     /// `UPDATE`: advance the histories (see [`super::contact::pair`]).
     pub fn evaluate<const UPDATE: bool>(&mut self, law: &ContactLaw, n: usize) {
-        let n = n.next_multiple_of(8).min(BATCH);
+        let n = n.next_multiple_of(VECTOR).min(BATCH);
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the CPU has AVX-512F (checked just above)
@@ -92,7 +96,7 @@ impl ContactLanes {
     }
 
     /// The law of [`super::contact`] lane by lane (its doc has the equations), in lanes
-    /// 0 .. n, n a multiple of eight.
+    /// 0 .. n, n a multiple of [`VECTOR`].
     #[inline(always)]
     fn evaluate_lanes<const UPDATE: bool>(&mut self, law: &ContactLaw, n: usize) {
         let ContactLaw {
@@ -109,7 +113,7 @@ impl ContactLanes {
         // builds, e.g. with one codegen unit, left the last eight lanes of every batch to a
         // scalar remainder loop, and their pair kernel was 15-20 % slower:
         // docs/performance.md)
-        assert!(n.is_multiple_of(8) && n <= BATCH, "whole vectors of lanes");
+        assert!(n.is_multiple_of(VECTOR) && n <= BATCH, "whole vectors of lanes");
         let [dx, dy, dz] = self.del.each_ref().map(|a| &a[..n]);
         let rsq = &self.rsq[..n];
         let [ri, rj] = self.radius.each_ref().map(|a| &a[..n]);
@@ -270,10 +274,10 @@ mod tests {
                     let mut b = lanes.clone();
                     if update {
                         a.evaluate::<true>(&law, n);
-                        b.evaluate_lanes::<true>(&law, n.next_multiple_of(8));
+                        b.evaluate_lanes::<true>(&law, n.next_multiple_of(VECTOR));
                     } else {
                         a.evaluate::<false>(&law, n);
-                        b.evaluate_lanes::<false>(&law, n.next_multiple_of(8));
+                        b.evaluate_lanes::<false>(&law, n.next_multiple_of(VECTOR));
                     }
                     for (l, (del, rsq, rad, v, m, shear)) in scalar.iter().enumerate() {
                         let mut s = *shear;
