@@ -113,7 +113,10 @@ impl ContactLanes {
         // builds, e.g. with one codegen unit, left the last eight lanes of every batch to a
         // scalar remainder loop, and their pair kernel was 15-20 % slower:
         // docs/performance.md)
-        assert!(n.is_multiple_of(VECTOR) && n <= BATCH, "whole vectors of lanes");
+        assert!(
+            n.is_multiple_of(VECTOR) && n <= BATCH,
+            "whole vectors of lanes"
+        );
         let [dx, dy, dz] = self.del.each_ref().map(|a| &a[..n]);
         let rsq = &self.rsq[..n];
         let [ri, rj] = self.radius.each_ref().map(|a| &a[..n]);
