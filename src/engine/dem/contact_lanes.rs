@@ -21,6 +21,7 @@ pub const BATCH: usize = 128;
 /// Lanes per vector of the widest path (AVX-512: eight f64); the law runs in whole vectors
 /// (BATCH is a whole number of them).
 const VECTOR: usize = 8;
+const _: () = assert!(BATCH.is_multiple_of(VECTOR), "a batch is whole vectors");
 
 /// One batch of pair contacts, a quantity per array, a pair per index (lane).
 #[derive(Clone, Debug)]
