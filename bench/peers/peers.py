@@ -188,7 +188,9 @@ def granflow_dem(binary, workload, threads, steps, warmup, cache, extra=()):
     """One `granflow bench --json` DEM run: (particle-steps/s, peak RSS bytes, N, contacts per
     particle)."""
     cmd = [binary, "bench", "--json", "--workload", workload, "--threads", str(threads),
-           "--dem-steps", str(steps), "--dem-warmup", str(warmup), "--dem-cache", cache, *extra]
+           "--dem-steps", str(steps), "--dem-warmup", str(warmup), *extra]
+    if cache:
+        cmd += ["--dem-cache", cache]
     text, rss = timed_child(cmd, env=one_core_env() if threads == 1 else None)
     rows = [r for r in json.loads(text) if r["workload"] == workload]
     if len(rows) != 1:
@@ -226,7 +228,9 @@ def lammps_dem(args, results):
     if not Path(args.lmp).exists():
         sys.exit(f"{args.lmp}: no LAMMPS binary (Debian: apt-get install lammps; or --lmp PATH)")
     chosen = [w for w in LAMMPS_DEM_WORKLOADS if not args.workload or args.workload in w]
-    cache = args.dem_cache or str(ROOT / "target" / "bench-cache")
+    # None: granflow bench's own cache ($GRANFLOW_BENCH_CACHE or ~/.cache/granflow/bench),
+    # shared with plain `granflow bench` runs
+    cache = args.dem_cache
     mpirun = shutil.which(args.mpirun) if args.mpirun else None
     if args.mpirun and not mpirun:
         sys.exit(f"{args.mpirun}: not found (Debian: apt-get install openmpi-bin; or --mpirun '' to skip LAMMPS on 2 ranks)")
@@ -291,7 +295,7 @@ def main():
     p.add_argument("--mpirun", default="mpirun", help="MPI launcher for LAMMPS on 2 ranks, its scaling beside granflow's on 2 threads (lammps-dem; '' skips it)")
     p.add_argument("--steps", type=int, default=2000, help="timed steps (lammps-dem)")
     p.add_argument("--warmup", type=int, default=100000, help="granflow flow steps before the timed ones (lammps-dem; the state is cached)")
-    p.add_argument("--dem-cache", help="granflow's cache of prepared states (lammps-dem; default target/bench-cache)")
+    p.add_argument("--dem-cache", help="granflow's cache of prepared states (lammps-dem; default: granflow bench's own, $GRANFLOW_BENCH_CACHE or ~/.cache/granflow/bench)")
     p.add_argument("--rounds", type=int, default=7)
     p.add_argument("--workload", help="only workloads whose name contains this text")
     p.add_argument("--granflow", default=str(ROOT / "target/release/granflow"))
