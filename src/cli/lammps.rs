@@ -6,10 +6,10 @@
 use super::out::outln;
 use crate::engine::dem::lammps::{self, ScriptOptions};
 use crate::engine::dem::{DemEngine, params_of};
-use crate::sweep::{BadInput, load_sweep};
+use crate::sweep::{BadInput, PlannedJob, Sweep, load_sweep};
 use anyhow::Context;
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
@@ -47,26 +47,12 @@ pub struct LammpsArgs {
 pub fn run(args: LammpsArgs) -> anyhow::Result<()> {
     let sweep = load_sweep(&args.sweep, &args.set)?;
     let shown = args.sweep.display();
-    if sweep.spec.engine != "dem" {
-        return Err(BadInput(format!(
-            "{shown}: key `engine` is \"{}\": `granflow lammps` writes DEM jobs (engine: \"dem\")",
-            sweep.spec.engine
-        ))
-        .into());
-    }
-    let job = match args.job.parse::<usize>() {
-        Ok(index) if args.job.len() < 16 => sweep.plan.get(index),
-        _ => sweep.plan.iter().find(|j| j.id.0 == args.job),
-    }
-    .ok_or_else(|| {
-        BadInput(format!(
-            "{shown}: --job {}: no such job; the sweep has {} jobs (plan index 0 to {}, or \
-             their ids: `granflow plan {shown}`)",
-            args.job,
-            sweep.plan.len(),
-            sweep.plan.len().saturating_sub(1)
-        ))
-    })?;
+    let job = dem_job(
+        &sweep,
+        &args.sweep,
+        &args.job,
+        "`granflow lammps` writes DEM jobs",
+    )?;
     let params = params_of(&job.params.values, job.params.seed);
     let steps = match args.steps {
         Some(s) => s,
@@ -126,4 +112,35 @@ pub fn run(args: LammpsArgs) -> anyhow::Result<()> {
         lammps::INPUT_FILE
     );
     Ok(())
+}
+
+/// The DEM job of a sweep that `--job` names (its id or its plan index); `what` says why a
+/// sweep of another engine is refused.
+pub(super) fn dem_job<'a>(
+    sweep: &'a Sweep,
+    file: &Path,
+    id: &str,
+    what: &str,
+) -> anyhow::Result<&'a PlannedJob> {
+    let shown = file.display();
+    if sweep.spec.engine != "dem" {
+        return Err(BadInput(format!(
+            "{shown}: key `engine` is \"{}\": {what} (engine: \"dem\")",
+            sweep.spec.engine
+        ))
+        .into());
+    }
+    let job = match id.parse::<usize>() {
+        Ok(index) if id.len() < 16 => sweep.plan.get(index),
+        _ => sweep.plan.iter().find(|j| j.id.0 == id),
+    };
+    job.ok_or_else(|| {
+        BadInput(format!(
+            "{shown}: --job {id}: no such job; the sweep has {} jobs (plan index 0 to {}, or \
+             their ids: `granflow plan {shown}`)",
+            sweep.plan.len(),
+            sweep.plan.len().saturating_sub(1)
+        ))
+        .into()
+    })
 }

@@ -8,6 +8,7 @@ mod engines;
 mod figure_size;
 mod gather;
 mod lammps;
+mod lammps_import;
 mod out;
 mod params;
 mod phase_diagram;
@@ -59,6 +60,8 @@ pub enum Command {
     Plot(plot::PlotArgs),
     /// Write a DEM job of a sweep as LAMMPS input (data file + script) from its prepared state.
     Lammps(lammps::LammpsArgs),
+    /// Read a LAMMPS dump of a DEM job's run into granflow's DEM tables and figures.
+    LammpsImport(lammps_import::LammpsImportArgs),
     /// Write one self-contained HTML report of a sweep (diagram, jobs, figures); also while it
     /// runs.
     Report(report::ReportArgs),
@@ -98,6 +101,7 @@ pub fn main() -> ExitCode {
         Command::Plot(args) => plot::run(args),
         Command::Report(args) => report::run(args),
         Command::Lammps(args) => lammps::run(args),
+        Command::LammpsImport(args) => lammps_import::run(args),
         Command::Slurm(args) => slurm::run(args),
         Command::Completions(args) => completions::run(args),
     };

@@ -60,6 +60,12 @@ impl Counters {
             .map_or(0, |(_, v)| *v)
     }
 
+    /// The value of a counter, None when the result has no counter of that name (e.g. one
+    /// imported from another code's output, which counts fewer things).
+    pub fn value(&self, name: &str) -> Option<u64> {
+        self.0.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
+    }
+
     /// From (name, value) pairs.
     pub fn from_pairs<'a>(pairs: impl IntoIterator<Item = (&'a str, u64)>) -> Self {
         Counters(pairs.into_iter().map(|(n, v)| (n.to_string(), v)).collect())

@@ -120,13 +120,27 @@ pub fn has_statistics(sweep: &Sweep) -> bool {
 /// Write the tables of a sweep into its tables directory: `jobs.parquet` and the row tables
 /// of its engine's analysis.
 pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> {
-    let engine = super::spec::engine_of(&sweep.spec).expect("a loaded sweep names an engine");
     std::fs::create_dir_all(&dirs.tables)?;
     // one gather at a time in a tables directory (two runners end together): a second one
     // waits, then reads the jobs anew, so the set it writes is no older than the first's, and
     // no generation directory is being written while one is cleaned up
     let _one_at_a_time = lock_gathering(&dirs.tables)?;
     let jobs = collect(sweep, dirs);
+    write_set(sweep, &jobs, &dirs.tables, &[])
+}
+
+/// Write the tables of these jobs of a sweep into `tables` (created if missing) as a new set,
+/// switched to atomically; `source` adds key-value metadata to every file (e.g. where
+/// imported results came from). The caller holds the directory's gather lock where other
+/// gathers may write into it.
+pub fn write_set(
+    sweep: &Sweep,
+    jobs: &[GatheredJob],
+    tables: &Path,
+    source: &[(String, String)],
+) -> anyhow::Result<GatherSummary> {
+    let engine = super::spec::engine_of(&sweep.spec).expect("a loaded sweep names an engine");
+    std::fs::create_dir_all(tables)?;
     // the set is written into a new generation directory, then switched to with one atomic
     // rename of the `tables` link: a kill leaves either the old set or the new one
     let generation = format!(
@@ -135,9 +149,10 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
         crate::provenance::host(),
         std::process::id()
     );
-    let staging = dirs.tables.join(&generation);
+    let staging = tables.join(&generation);
     std::fs::create_dir_all(&staging)?;
-    let metadata = file_metadata(sweep, &generation);
+    let mut metadata = file_metadata(sweep, &generation);
+    metadata.extend(source.iter().cloned());
     let mut names = vec!["jobs".to_string()];
     let statistics = has_statistics(sweep);
     let written = (|| -> anyhow::Result<()> {
@@ -151,14 +166,14 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
         };
         parquet::write(
             &staging.join("jobs.parquet"),
-            jobs_table(engine, &jobs, statistics),
+            jobs_table(engine, jobs, statistics),
             &metadata,
             &describe("jobs"),
         )?;
         for table in tables_of(engine, statistics) {
             parquet::write(
                 &staging.join(format!("{}.parquet", table.name)),
-                rows_table(table, &jobs),
+                rows_table(table, jobs),
                 &metadata,
                 &describe(table.name),
             )?;
@@ -170,7 +185,7 @@ pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> 
         let _ = std::fs::remove_dir_all(&staging);
         return Err(e);
     }
-    switch_tables(&dirs.tables, &generation, &names)?;
+    switch_tables(tables, &generation, &names)?;
     Ok(GatherSummary {
         jobs: jobs.len(),
         done: jobs.iter().filter(|j| j.result.is_some()).count(),
@@ -188,7 +203,7 @@ pub const GATHER_LOCK: &str = ".gather.lock";
 /// Wait for the tables directory's gather lock (released when the file is dropped, or the
 /// process ends). Where the file system has no working locks the gather goes on unlocked (as
 /// `run --unsafe-no-locks` does: safe while one gather runs at a time).
-fn lock_gathering(dir: &Path) -> anyhow::Result<std::fs::File> {
+pub fn lock_gathering(dir: &Path) -> anyhow::Result<std::fs::File> {
     let path = dir.join(GATHER_LOCK);
     let file = std::fs::OpenOptions::new()
         .create(true)
@@ -369,16 +384,21 @@ fn jobs_table(engine: &EngineDef, jobs: &[GatheredJob], statistics: bool) -> Vec
             ));
         }
     }
+    // null where a result does not have a counter (one imported from another code's output)
     for counter in engine.counters {
         cols.push(done(counter.name, ColumnKind::I64, &|x| {
-            x.counters.get(counter.name).into()
+            x.counters
+                .value(counter.name)
+                .map_or(Cell::Null, Cell::from)
         }));
     }
     for ratio in engine.ratios {
-        cols.push(done(ratio.name, ColumnKind::F64, &|x| {
-            (x.counters.get(ratio.numerator) as f64
-                / x.counters.get(ratio.denominator).max(1) as f64)
-                .into()
+        cols.push(done(ratio.name, ColumnKind::F64, &|x| match (
+            x.counters.value(ratio.numerator),
+            x.counters.value(ratio.denominator),
+        ) {
+            (Some(a), Some(b)) => (a as f64 / b.max(1) as f64).into(),
+            _ => Cell::Null,
         }));
     }
     for &clock in engine.clocks {

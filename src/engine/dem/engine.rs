@@ -18,7 +18,7 @@ use super::forces::{self, Boundaries, Pass, Tally};
 use super::neighbours::{KeptContact, NeighbourList};
 use super::params::{ContactType, DampingFrom, DemParams, SizeMix};
 use super::prepare::{self, Preparation, SETTLE_CHECK_EVERY};
-use super::sampling::{Bins, IntervalSums, SYM};
+use super::sampling::{self, Bins, IntervalSums};
 use crate::engine::{BoxGeometry, Particles};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -110,6 +110,37 @@ pub struct Record {
     /// per bin, the bonds with their midpoint in it and their sums of Y_6m, of the particles
     /// at the snapshot ([`bond_order`]: one evaluation per snapshot, not per sample)
     pub bonds: Vec<BondSums>,
+}
+
+impl RunConstants {
+    /// The constants of a run of `params` with these particles (radii R, masses m, any
+    /// order) and bins.
+    pub fn of(params: &DemParams, radius: &[f64], mass: &[f64], bins: &Bins) -> RunConstants {
+        let p = params;
+        let volume: f64 = radius.iter().map(|r| 4.0 / 3.0 * PI * r * r * r).sum();
+        RunConstants {
+            width: p.width,
+            span: p.span,
+            length: p.length,
+            particles: radius.len() as u64,
+            volume_fraction: volume / (p.length * p.width * p.span),
+            total_mass: mass.iter().sum(),
+            gravity: p.gravity,
+            time_step: p.time_step,
+            sample_every: p.sample_every,
+            size_mix: p.size_mix,
+            normal_stiffness: p.normal_stiffness,
+            tangential_stiffness: p.tangential_stiffness(),
+            normal_damping: p.normal_damping,
+            tangential_damping: p.tangential_damping(),
+            damping_from: p.damping_from,
+            friction: p.friction,
+            wall_friction: p.wall_friction,
+            contact_types: p.contact_types(),
+            bin_edges: bins.edges.clone(),
+            bond_cutoff: bond_order::BOND_CUTOFF,
+        }
+    }
 }
 
 /// A snapshot of the DEM engine: the record and the particles (tag order).
@@ -605,46 +636,12 @@ impl DemEngine {
     fn sample(&mut self, bounds: &Boundaries) {
         let b = &self.bodies;
         let iv = &mut self.interval;
-        let mut mass = 0.0;
-        let mut momentum = [0.0; 3];
-        let mut kinetic = [0.0; 2];
-        // this sample's bin totals: (M, P, J, S) for the fluctuations about the instantaneous
-        // bin means
-        let mut now = vec![(0.0, [0.0; 3], 0.0, [0.0; 3]); iv.bins.len()];
+        sampling::add_kinetic_sample(iv, &self.bins, &b.mass, &b.radius, &b.x, &b.v, &b.w);
         for i in 0..b.len() {
-            let (m, r, v, w) = (b.mass[i], b.radius[i], b.v[i], b.w[i]);
-            let d = 2.0 * r;
-            let inertia = 0.1 * m * d * d;
-            let bin = self.bins.of(b.x[i][1]);
-            let t = &mut now[bin];
-            t.0 += m;
-            t.2 += inertia;
-            for k in 0..3 {
-                t.1[k] += m * v[k];
-                t.3[k] += inertia * w[k];
-            }
-            let s = &mut iv.bins[bin];
-            s.count += 1.0;
-            s.volume += PI / 6.0 * d * d * d;
-            s.mass += m;
-            s.inertia += inertia;
-            for k in 0..3 {
-                s.momentum[k] += m * v[k];
-                s.spin_momentum[k] += inertia * w[k];
-            }
-            for (c, &(p, q)) in SYM.iter().enumerate() {
-                s.momentum_flux[c] += m * v[p] * v[q];
-                s.spin_flux[c] += inertia * w[p] * w[q];
-            }
-            mass += m;
-            for k in 0..3 {
-                momentum[k] += m * v[k];
-            }
-            kinetic[0] += 0.5 * m * dot(v, v);
-            kinetic[1] += 0.5 * inertia * dot(w, w);
             // the wall contact of this step
             let wf = b.wall_force[i];
             if wf != [0.0; 3] {
+                let (r, v, w) = (b.radius[i], b.v[i], b.w[i]);
                 let (wall, del, _) = forces::nearer_wall(b.x[i][1], r, bounds.width);
                 for (a, fa) in wf.iter().enumerate() {
                     iv.sampled_wall_force[wall][a] -= fa;
@@ -655,14 +652,6 @@ impl DemEngine {
                 let n = [0.0, del[1].signum(), 0.0];
                 let vs = sub(v, cross(scale(w, r), n));
                 iv.wall_dissipation[wall] -= dot(wf, vs);
-            }
-        }
-        for (s, (m, p, j, l)) in iv.bins.iter_mut().zip(&now) {
-            if *m > 0.0 {
-                for (c, &(a, q)) in SYM.iter().enumerate() {
-                    s.mean_momentum_flux[c] += p[a] * p[q] / m;
-                    s.mean_spin_flux[c] += l[a] * l[q] / j;
-                }
             }
         }
         let mut touching = 0.0;
@@ -692,11 +681,6 @@ impl DemEngine {
             iv.bins[mid].dissipation -= dot(f, vs);
             iv.bins[mid].contacts += 1.0;
         }
-        for (u, p) in iv.com_velocity.iter_mut().zip(momentum) {
-            *u += p / mass;
-        }
-        iv.kinetic_energy[0] += kinetic[0];
-        iv.kinetic_energy[1] += kinetic[1];
         iv.contacts += touching;
         iv.samples += 1;
         self.counters.samples += 1;
@@ -751,31 +735,12 @@ impl DemEngine {
 
     /// The run's constants.
     pub fn constants(&self) -> RunConstants {
-        let p = &self.params;
-        let b = &self.bodies;
-        let volume: f64 = b.radius.iter().map(|r| 4.0 / 3.0 * PI * r * r * r).sum();
-        RunConstants {
-            width: p.width,
-            span: p.span,
-            length: p.length,
-            particles: b.len() as u64,
-            volume_fraction: volume / (p.length * p.width * p.span),
-            total_mass: b.mass.iter().sum(),
-            gravity: p.gravity,
-            time_step: p.time_step,
-            sample_every: p.sample_every,
-            size_mix: p.size_mix,
-            normal_stiffness: p.normal_stiffness,
-            tangential_stiffness: p.tangential_stiffness(),
-            normal_damping: p.normal_damping,
-            tangential_damping: p.tangential_damping(),
-            damping_from: p.damping_from,
-            friction: p.friction,
-            wall_friction: p.wall_friction,
-            contact_types: p.contact_types(),
-            bin_edges: self.bins.edges.clone(),
-            bond_cutoff: bond_order::BOND_CUTOFF,
-        }
+        RunConstants::of(
+            &self.params,
+            &self.bodies.radius,
+            &self.bodies.mass,
+            &self.bins,
+        )
     }
 
     /// Read and reset the interval: its sums since the last call (or the start of the flow)

@@ -424,10 +424,23 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
 
 /// [`read_dump`] of a file; errors name the file.
 pub fn read_dump_file(path: &Path) -> anyhow::Result<Vec<DumpFrame>> {
+    read_dump_file_with_digest(path).map(|(frames, _)| frames)
+}
+
+/// [`read_dump_file`] and the SHA-256 of the file's bytes (hex, 64 digits): what a result
+/// made from the dump names as its input.
+pub fn read_dump_file_with_digest(path: &Path) -> anyhow::Result<(Vec<DumpFrame>, String)> {
     use anyhow::Context;
+    use sha2::{Digest, Sha256};
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read the LAMMPS dump", path.display()))?;
-    read_dump(&text).with_context(|| format!("{}: not a readable LAMMPS dump", path.display()))
+    let digest: String = Sha256::digest(text.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let frames = read_dump(&text)
+        .with_context(|| format!("{}: not a readable LAMMPS dump", path.display()))?;
+    Ok((frames, digest))
 }
 
 #[cfg(test)]

@@ -32,7 +32,7 @@
 //! [`prepare`] (the lattice and the settling), [`sampling`] (bins and interval sums),
 //! [`bond_order`] (the bond-orientational sums behind Q6, taken at each snapshot),
 //! [`engine`] (the step loop, snapshots, checkpoints), [`lammps`] (LAMMPS data, input and
-//! dump files), [`reference`] (all pairs, one thread:
+//! dump files), [`imported`] (a LAMMPS dump's frames as records for the analysis), [`reference`] (all pairs, one thread:
 //! what the tests hold the engine to, bit for bit), `declaration` (the registry's view).
 //!
 //! **Determinism.** Each pair is evaluated once, by its owner (its lower tag), into its slot;
@@ -49,6 +49,7 @@ mod declaration;
 pub mod domain;
 pub mod engine;
 pub mod forces;
+pub mod imported;
 pub mod lammps;
 pub mod neighbours;
 pub mod params;
