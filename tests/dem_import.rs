@@ -32,6 +32,7 @@ fn run() -> (DemParams, Vec<Record>, Vec<DumpFrame>) {
         bounds: [[0.0, p.length], [0.0, p.width], [0.0, p.span]],
         ids: (1..=states.len() as u64).collect(),
         states: engine.states(),
+        pair_virial: None,
     };
     let mut frames = vec![frame(&engine)];
     let mut records = Vec::new();

@@ -16,9 +16,16 @@
 //!   P_x(start)) (velocity Verlet keeps this to round-off). It is booked as both walls' sum
 //!   (wall 0 holds J_x, wall 1 zero), the per-step force as J_x / Delta t: the balance beta
 //!   and the steady rule follow, with the resolution of the frames;
-//! - not in a dump, so NaN (null in the tables): the contact stress and everything from it
-//!   (sigma, mu, I), the dissipation, the contact counts, each wall's own forces (the wall
-//!   normal stress, mu_wall), the sampled wall stresses and the work of gravity.
+//! - the contact stress when the dump has each particle's pair virial (`c_pairstress[1..6]`,
+//!   which `granflow lammps` scripts dump): LAMMPS' six entries r_a F_b / 2 (xx, yy, zz, xy,
+//!   xz, yz) go to the bin of the particle's centre, as granflow's sampling splits each
+//!   contact between its two particles; the other three entries of granflow's non-symmetric
+//!   tensor are NaN. So sigma_xx, sigma_yy, sigma_zz and the paper's sigma_xy (granflow's
+//!   F_y r_x) are there, hence mu and I in the interior bins; the wall bins lack the wall
+//!   contacts' stress (NaN);
+//! - not in a dump, so NaN (null in the tables): the dissipation, the contact counts, each
+//!   wall's own forces (the wall normal stress, mu_wall), the sampled wall stresses, the work
+//!   of gravity, and without the virial columns the contact stress and all made of it.
 
 use super::bond_order;
 use super::domain::Domain;
@@ -112,6 +119,9 @@ pub fn records_from_frames(
             b.dissipation = f64::NAN;
             b.contacts = f64::NAN;
         }
+        if let Some(virial) = &to.pair_virial {
+            add_contact_stress(&mut sums, &bins, &x, virial);
+        }
         // both walls' impulse along the flow from the momentum balance; their split and the
         // other components are unknown
         let impulse = total_mass * g[0] * sums.duration - (end_momentum[0] - start_momentum[0]);
@@ -134,6 +144,29 @@ pub fn records_from_frames(
         start_momentum = end_momentum;
     }
     Ok(records)
+}
+
+/// Where each of LAMMPS' six pair-virial entries (xx, yy, zz, xy, xz, yz; ab = r_a F_b / 2)
+/// sits in a bin's `contact_stress` (row-major, the force's component first: F_a r_b at
+/// 3 a + b): r_x F_y is granflow's (y, x) entry, and so on. The other three entries (F_x r_y,
+/// F_x r_z, F_y r_z) LAMMPS does not keep.
+const FROM_LAMMPS: [usize; 6] = [0, 4, 8, 3, 6, 7];
+
+/// Each particle's pair virial (its half of each of its contacts' r F, the split granflow's
+/// sampling makes) into the bin of its centre; the three entries LAMMPS does not keep stay NaN.
+fn add_contact_stress(sums: &mut IntervalSums, bins: &Bins, x: &[[f64; 3]], virial: &[[f64; 6]]) {
+    for b in &mut sums.bins {
+        b.contact_stress = [f64::NAN; 9];
+        for &k in &FROM_LAMMPS {
+            b.contact_stress[k] = 0.0;
+        }
+    }
+    for (x, w) in x.iter().zip(virial) {
+        let b = &mut sums.bins[bins.of(x[1])];
+        for (&k, w) in FROM_LAMMPS.iter().zip(w) {
+            b.contact_stress[k] += w;
+        }
+    }
 }
 
 /// The frames are of one run of this channel: at least two, forward in time, the same

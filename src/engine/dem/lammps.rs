@@ -37,6 +37,12 @@ pub const DUMP_FILE: &str = "dump.dem";
 /// The columns the input script dumps (what [`read_dump`] needs, in this order).
 pub const DUMP_COLUMNS: &str = "id type diameter x y z vx vy vz omegax omegay omegaz";
 
+/// The compute of each particle's pair virial the input script defines (`compute pairstress
+/// all stress/atom NULL pair`: the pair forces only, no kinetic, wall or gravity terms) and
+/// dumps as `c_pairstress[1]` .. `c_pairstress[6]`; [`read_dump`] reads these columns when a
+/// dump has them ([`DumpFrame::pair_virial`]).
+pub const STRESS_COMPUTE: &str = "pairstress";
+
 /// What the input script does besides setting up the channel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScriptOptions {
@@ -165,8 +171,19 @@ pub fn input_script(params: &DemParams, opts: &ScriptOptions) -> String {
     if opts.dump_every > 0 {
         let _ = writeln!(
             s,
-            "dump frames all custom {} {} {DUMP_COLUMNS}",
-            opts.dump_every, opts.dump_file
+            "# each particle's half of its pair contacts' r F (LAMMPS: minus it), for \
+             `granflow lammps-import`'s contact stress (evaluated on dump steps only)"
+        );
+        let _ = writeln!(s, "compute {STRESS_COMPUTE} all stress/atom NULL pair");
+        let stress: Vec<String> = (1..=6)
+            .map(|k| format!("c_{STRESS_COMPUTE}[{k}]"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "dump frames all custom {} {} {DUMP_COLUMNS} {}",
+            opts.dump_every,
+            opts.dump_file,
+            stress.join(" ")
         );
         let _ = writeln!(s, "dump_modify frames format float %.17g sort id");
     }
@@ -205,6 +222,12 @@ pub struct DumpFrame {
     /// canonical order); positions shifted so the box starts at 0 and wrapped into [0, L) and
     /// [0, B) in the periodic x and z; force, torque, histories zero
     pub states: Vec<BodyState>,
+    /// when the dump has the columns `c_pairstress[1..6]` ([`STRESS_COMPUTE`]): each
+    /// particle's (ascending id order) pair virial, minus LAMMPS' stress/atom: in LAMMPS'
+    /// order xx, yy, zz, xy, xz, yz, where the ab entry is the sum over the particle's pair
+    /// contacts of r_a F_b / 2 (r = x_i - x_j, F the force on i from j). LAMMPS keeps only
+    /// these six of the nine r_a F_b
+    pub pair_virial: Option<Vec<[f64; 6]>>,
 }
 
 /// What is wrong with a dump (line numbers from 1).
@@ -232,6 +255,8 @@ struct Columns {
     position: ([usize; 3], bool),
     velocity: [usize; 3],
     spin: [usize; 3],
+    /// the six `c_pairstress[k]` columns, when all are there
+    stress: Option<[usize; 6]>,
     count: usize,
 }
 
@@ -276,6 +301,27 @@ impl Columns {
             position: (position, scaled),
             velocity: [need(&["vx"])?, need(&["vy"])?, need(&["vz"])?],
             spin: [need(&["omegax"])?, need(&["omegay"])?, need(&["omegaz"])?],
+            stress: {
+                let at: Vec<Option<usize>> = (1..=6)
+                    .map(|k| {
+                        let name = format!("c_{STRESS_COMPUTE}[{k}]");
+                        names.iter().position(|n| *n == name)
+                    })
+                    .collect();
+                match at.iter().filter(|c| c.is_some()).count() {
+                    0 => None,
+                    6 => Some(std::array::from_fn(|k| at[k].expect("all six"))),
+                    found => {
+                        return Err(bad(
+                            line,
+                            format!(
+                                "{found} of the six columns c_{STRESS_COMPUTE}[1] .. [6]: all \
+                                 or none"
+                            ),
+                        ));
+                    }
+                }
+            },
             count: names.len(),
         })
     }
@@ -361,7 +407,7 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
             ));
         };
         let cols = Columns::parse(header, line)?;
-        let mut atoms: Vec<(u64, BodyState)> = Vec::with_capacity(n);
+        let mut atoms: Vec<(u64, BodyState, [f64; 6])> = Vec::with_capacity(n);
         let mut at = line;
         for _ in 0..n {
             let (l, v) = next("an atom line", at)?;
@@ -399,9 +445,17 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
             let three = |c: [usize; 3]| -> Result<[f64; 3], DumpError> {
                 Ok([num(c[0])?, num(c[1])?, num(c[2])?])
             };
+            let mut virial = [0.0; 6];
+            if let Some(c) = cols.stress {
+                for (v, &c) in virial.iter_mut().zip(&c) {
+                    // LAMMPS' stress/atom is minus the virial (pressure x volume)
+                    *v = -num(c)?;
+                }
+            }
             atoms.push((
                 id,
                 BodyState::fresh(diameter, position, three(cols.velocity)?, three(cols.spin)?),
+                virial,
             ));
         }
         atoms.sort_by_key(|a| a.0);
@@ -416,6 +470,7 @@ pub fn read_dump(text: &str) -> Result<Vec<DumpFrame>, DumpError> {
             timestep,
             bounds,
             ids: atoms.iter().map(|a| a.0).collect(),
+            pair_virial: cols.stress.map(|_| atoms.iter().map(|a| a.2).collect()),
             states: atoms.into_iter().map(|a| a.1).collect(),
         });
     }
@@ -585,5 +640,30 @@ ITEM: ATOMS id radius omegax omegay omegaz vx vy vz xs ys zs
         let e = read_dump(&short).unwrap_err();
         assert!(e.to_string().contains("ends where an atom line"), "{e}");
         assert_eq!(read_dump("").unwrap_err(), DumpError::Empty);
+    }
+
+    /// The virial columns, in any order, are read by id as minus LAMMPS' stress/atom; a
+    /// frame without them has none; some of the six but not all is an error.
+    #[test]
+    fn the_pair_virial_columns_are_read_when_all_six_are_there() {
+        let header = "ITEM: ATOMS id type diameter x y z vx vy vz omegax omegay omegaz";
+        let stress = "c_pairstress[6] c_pairstress[1] c_pairstress[2] c_pairstress[3] \
+                      c_pairstress[4] c_pairstress[5]";
+        let with = DUMP
+            .replacen(header, &format!("{header} {stress}"), 1)
+            .replacen("4 5 6\n1", "4 5 6 -6 -1 -2 -3 -4 -5\n1", 1)
+            .replacen("-4 -5 -6\n", "-4 -5 -6 6 1 2 3 4 5\n", 1);
+        let f = read_dump(&with).unwrap();
+        assert_eq!(
+            f[0].pair_virial,
+            Some(vec![
+                [-1.0, -2.0, -3.0, -4.0, -5.0, -6.0],
+                [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+            ])
+        );
+        assert_eq!(f[1].pair_virial, None);
+        let five = DUMP.replacen(header, &format!("{header} c_pairstress[1] c_pairstress[2] c_pairstress[3] c_pairstress[4] c_pairstress[5]"), 1);
+        let e = read_dump(&five).unwrap_err();
+        assert!(e.to_string().contains("5 of the six columns"), "{e}");
     }
 }
