@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
-  granflow lammps sweeps/dem-width.ron --job 0 --out lmp-w60      # the first job, prepared
-  granflow lammps sweeps/dem-width.ron --job 3f2a9c0d1e4b5a67 --out lmp --steps 2000000
+  granflow lammps sweeps/dem-width-loading.ron --job 0 --out lmp-w60      # the first job, prepared
+  granflow lammps sweeps/dem-width-loading.ron --job 3f2a9c0d1e4b5a67 --out lmp --steps 2000000
   cd lmp-w60 && mpirun -np 64 lmp -in in.dem                      # then read dump.dem back
 The data file holds the particles (atom id = granflow index + 1); the input script the
 contact law (gran/hooke/history, dampflag 1), the walls (wall/gran yplane 0 W), gravity along

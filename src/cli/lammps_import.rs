@@ -19,14 +19,14 @@ use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
-  granflow lammps sweeps/dem-width.ron --job 0 --out lmp-w60 --dump-every 10000
+  granflow lammps sweeps/dem-width-loading.ron --job 0 --out lmp-w60 --dump-every 10000
   (cd lmp-w60 && mpirun -np 64 lmp -in in.dem)
-  granflow lammps-import sweeps/dem-width.ron --job 0 --dump lmp-w60/dump.dem --out lmp-w60/tables
+  granflow lammps-import sweeps/dem-width-loading.ron --job 0 --dump lmp-w60/dump.dem --out lmp-w60/tables
 Each interval between two frames is one record with one sample (the later frame): dump often
 enough for the block errors (the analysis window is its last part, in blocks). The walls'
-force along the flow comes from the momentum balance between frames; the contact stress (and
-sigma, mu, I), the dissipation, the contact counts and each wall's own forces are not in a
-dump and stay null.")]
+force along the flow comes from the momentum balance between frames, the contact stress (sigma,
+mu, I) from the c_pairstress columns that granflow lammps' script dumps; the dissipation, the
+contact counts and each wall's own forces are not in a dump and stay null.")]
 pub struct LammpsImportArgs {
     /// the sweep file (sweeps/*.ron) of the DEM sweep the LAMMPS run was written from
     pub sweep: PathBuf,
@@ -34,7 +34,8 @@ pub struct LammpsImportArgs {
     #[arg(long)]
     pub job: String,
     /// the LAMMPS `dump custom` text file (columns id, diameter or radius, x y z, vx vy vz,
-    /// omegax omegay omegaz; `granflow lammps` writes such a dump: dump.dem)
+    /// omegax omegay omegaz, optionally c_pairstress[1..6]; `granflow lammps` writes such a
+    /// dump: dump.dem)
     #[arg(long)]
     pub dump: PathBuf,
     /// directory to write the tables (jobs, profiles, series .parquet) and figures into
