@@ -101,3 +101,9 @@ pub fn host() -> String {
 pub fn now() -> String {
     humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string()
 }
+
+/// Lower-case hex digits of bytes: the digests that name inputs (job ids, checkpoints'
+/// records, LAMMPS dumps, bench states).
+pub fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}

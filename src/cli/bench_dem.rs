@@ -71,10 +71,7 @@ fn warmed(w: &DemWorkload, cache: &Path, warmup: u64) -> anyhow::Result<DemEngin
         use sha2::{Digest, Sha256};
         let text = format!("{:?}", w.params);
         let digest = Sha256::digest(text.as_bytes());
-        digest[..8]
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect::<String>()
+        crate::provenance::hex(&digest[..8])
     };
     let load = |path: &Path, step: u64| {
         std::fs::read(path)

@@ -54,10 +54,7 @@ pub struct Counters(pub Vec<(String, u64)>);
 impl Counters {
     /// The value of a counter (0 when the engine has no counter of that name).
     pub fn get(&self, name: &str) -> u64 {
-        self.0
-            .iter()
-            .find(|(n, _)| n == name)
-            .map_or(0, |(_, v)| *v)
+        self.value(name).unwrap_or(0)
     }
 
     /// The value of a counter, None when the result has no counter of that name (e.g. one

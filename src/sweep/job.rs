@@ -549,12 +549,7 @@ fn param_json(v: &ParamValue) -> Value {
 /// The id of a canonical text: the first 16 hex digits of its SHA-256.
 pub fn id_of_canonical(canonical: &str) -> JobId {
     let digest = Sha256::digest(canonical.as_bytes());
-    JobId(
-        digest[..8]
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect::<String>(),
-    )
+    JobId(crate::provenance::hex(&digest[..8]))
 }
 
 fn number(v: f64) -> Value {

@@ -231,13 +231,9 @@ impl DemEngine {
             .validate_box_and_law()
             .map_err(|p| format!("{}: {}", p.key, p.message))?;
         if states.len() < 2
-            || states.iter().any(|s| {
-                !params
-                    .size_mix
-                    .components()
-                    .iter()
-                    .any(|c| c.0 == s.diameter)
-            })
+            || states
+                .iter()
+                .any(|s| !params.size_mix.has_diameter(s.diameter))
         {
             return Err(format!(
                 "a state needs at least 2 particles, each of a diameter of the size mix {:?}",

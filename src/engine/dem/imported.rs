@@ -115,13 +115,10 @@ pub fn records_from_frames(
         add_kinetic_sample(&mut sums, &bins, &mass, &radius, &x, &v, &w);
         sums.samples = 1;
         for b in &mut sums.bins {
-            b.contact_stress = [f64::NAN; 9];
             b.dissipation = f64::NAN;
             b.contacts = f64::NAN;
         }
-        if let Some(virial) = &to.pair_virial {
-            add_contact_stress(&mut sums, &bins, &x, virial);
-        }
+        set_contact_stress(&mut sums, &bins, &x, to.pair_virial.as_deref());
         // both walls' impulse along the flow from the momentum balance; their split and the
         // other components are unknown
         let impulse = total_mass * g[0] * sums.duration - (end_momentum[0] - start_momentum[0]);
@@ -152,11 +149,20 @@ pub fn records_from_frames(
 /// F_x r_z, F_y r_z) LAMMPS does not keep.
 const FROM_LAMMPS: [usize; 6] = [0, 4, 8, 3, 6, 7];
 
-/// Each particle's pair virial (its half of each of its contacts' r F, the split granflow's
-/// sampling makes) into the bin of its centre; the three entries LAMMPS does not keep stay NaN.
-fn add_contact_stress(sums: &mut IntervalSums, bins: &Bins, x: &[[f64; 3]], virial: &[[f64; 6]]) {
+/// The bins' contact stress from each particle's pair virial (its half of each of its
+/// contacts' r F, the split granflow's sampling makes), summed into the bin of its centre; the
+/// three entries LAMMPS does not keep, and every entry without a virial, are NaN.
+fn set_contact_stress(
+    sums: &mut IntervalSums,
+    bins: &Bins,
+    x: &[[f64; 3]],
+    virial: Option<&[[f64; 6]]>,
+) {
     for b in &mut sums.bins {
         b.contact_stress = [f64::NAN; 9];
+    }
+    let Some(virial) = virial else { return };
+    for b in &mut sums.bins {
         for &k in &FROM_LAMMPS {
             b.contact_stress[k] = 0.0;
         }
@@ -176,7 +182,6 @@ fn check(params: &DemParams, frames: &[DumpFrame]) -> Result<(), ImportError> {
         return Err(ImportError::TooFewFrames(frames.len()));
     }
     let first = &frames[0];
-    let mix = params.size_mix.components();
     for (k, f) in frames.iter().enumerate() {
         let step = f.timestep;
         for (axis, name, want) in [
@@ -221,12 +226,12 @@ fn check(params: &DemParams, frames: &[DumpFrame]) -> Result<(), ImportError> {
         if let Some(s) = f
             .states
             .iter()
-            .find(|s| !mix.iter().any(|c| c.0 == s.diameter))
+            .find(|s| !params.size_mix.has_diameter(s.diameter))
         {
             return Err(ImportError::Size {
                 step,
                 diameter: s.diameter,
-                mix: mix.to_vec(),
+                mix: params.size_mix.components().to_vec(),
             });
         }
     }

@@ -303,10 +303,7 @@ impl Columns {
             spin: [need(&["omegax"])?, need(&["omegay"])?, need(&["omegaz"])?],
             stress: {
                 let at: Vec<Option<usize>> = (1..=6)
-                    .map(|k| {
-                        let name = format!("c_{STRESS_COMPUTE}[{k}]");
-                        names.iter().position(|n| *n == name)
-                    })
+                    .map(|k| find(&[format!("c_{STRESS_COMPUTE}[{k}]").as_str()]))
                     .collect();
                 match at.iter().filter(|c| c.is_some()).count() {
                     0 => None,
@@ -489,10 +486,7 @@ pub fn read_dump_file_with_digest(path: &Path) -> anyhow::Result<(Vec<DumpFrame>
     use sha2::{Digest, Sha256};
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read the LAMMPS dump", path.display()))?;
-    let digest: String = Sha256::digest(text.as_bytes())
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
+    let digest = crate::provenance::hex(&Sha256::digest(text.as_bytes()));
     let frames = read_dump(&text)
         .with_context(|| format!("{}: not a readable LAMMPS dump", path.display()))?;
     Ok((frames, digest))

@@ -54,6 +54,11 @@ impl SizeMix {
         }
     }
 
+    /// Whether d is one of the mix's diameters (exactly).
+    pub fn has_diameter(self, d: f64) -> bool {
+        self.components().iter().any(|c| c.0 == d)
+    }
+
     /// <pi d^3 / 6>, the mean particle volume.
     pub fn mean_volume(self) -> f64 {
         self.components()

@@ -50,12 +50,7 @@ fn header_job(bytes: &[u8]) -> Option<String> {
 
 /// SHA-256 of the header and covered frames, as a checkpoint holds it (hex).
 fn digest_hex(hasher: &Sha256) -> String {
-    hasher
-        .clone()
-        .finalize()
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
+    crate::provenance::hex(&hasher.clone().finalize())
 }
 
 fn frame(record: &Record) -> anyhow::Result<Vec<u8>> {
