@@ -1,0 +1,4 @@
+//! The DSMC engine (Gupta 2017).
+
+mod channel;
+mod sweep;

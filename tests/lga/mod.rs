@@ -1,0 +1,4 @@
+//! The lattice gas (Peng & Herrmann 1994).
+
+mod engine;
+mod sweep;

@@ -1,0 +1,4 @@
+//! Slurm job arrays.
+
+mod integration;
+mod tasks;

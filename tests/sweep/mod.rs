@@ -1,0 +1,9 @@
+//! The sweep orchestrator and its files.
+
+mod cli;
+mod exit_codes;
+mod orchestrator;
+mod registry;
+mod store;
+mod tables;
+mod tamper;
