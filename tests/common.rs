@@ -34,28 +34,53 @@ pub fn granflow_ok(args: &[&str]) -> String {
 
 /// Start `granflow <args>` (a run into `results`) again and again, killing it with SIGKILL
 /// after a growing delay, until every job of `sweep` has its result; the number of kills.
-pub fn kill_until_done(sweep: &Sweep, results: &Path, args: &[String], limit: Duration) -> u64 {
+///
+/// The delay grows by 97 ms a kill for the first 20 kills (kills at many different moments),
+/// then doubles, so the loop ends once one run outlasts it however loaded the machine is; a
+/// run that ends by itself must have finished every job. `hang` is a hang guard, not a speed
+/// limit: the test fails only when a run given `hang` uninterrupted has still not finished.
+pub fn kill_until_done(sweep: &Sweep, results: &Path, args: &[String], hang: Duration) -> u64 {
     let dirs = sweep.results_dir(results);
+    let all_done = || {
+        sweep
+            .plan
+            .iter()
+            .all(|j| dirs.job_dir(&j.id).join(store::RESULT_FILE).exists())
+    };
     let mut kills = 0u64;
-    let started = Instant::now();
-    while !sweep
-        .plan
-        .iter()
-        .all(|j| dirs.job_dir(&j.id).join(store::RESULT_FILE).exists())
-    {
+    let mut delay = Duration::from_millis(150);
+    while !all_done() {
+        assert!(
+            delay <= 2 * hang,
+            "a run given {:?} uninterrupted did not finish (after {kills} kills): a hang?",
+            delay / 2
+        );
         let mut child = Command::new(BIN)
             .args(args)
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
-        std::thread::sleep(Duration::from_millis(150 + 97 * kills));
-        if child.try_wait().unwrap().is_none() {
-            child.kill().unwrap();
-            kills += 1;
+        let started = Instant::now();
+        while started.elapsed() < delay && child.try_wait().unwrap().is_none() {
+            std::thread::sleep(Duration::from_millis(20));
         }
-        child.wait().unwrap();
-        assert!(started.elapsed() < limit, "no progress after {kills} kills");
+        match child.try_wait().unwrap() {
+            Some(status) => assert!(
+                all_done(),
+                "a run ended by itself ({status}) before every job was done"
+            ),
+            None => {
+                child.kill().unwrap();
+                child.wait().unwrap();
+                kills += 1;
+            }
+        }
+        delay = if kills < 20 {
+            Duration::from_millis(150 + 97 * kills)
+        } else {
+            delay * 2
+        };
     }
     kills
 }
