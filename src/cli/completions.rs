@@ -18,6 +18,10 @@ pub struct CompletionsArgs {
 pub fn run(args: CompletionsArgs) -> anyhow::Result<()> {
     let mut command = super::Cli::command();
     let name = command.get_name().to_string();
-    clap_complete::generate(args.shell, &mut command, name, &mut std::io::stdout());
+    // generated into memory, then written through `out`: a full stdout is an error (exit 75),
+    // never a panic
+    let mut script = Vec::new();
+    clap_complete::generate(args.shell, &mut command, name, &mut script);
+    super::out::write(format_args!("{}", String::from_utf8_lossy(&script)));
     Ok(())
 }

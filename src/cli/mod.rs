@@ -76,7 +76,21 @@ pub const EXIT_BAD_INPUT: u8 = 2;
 
 /// Parse the command line, run the command, report errors with their cause chain.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // --help and --version go to stdout through `out`, so that a full stdout is an error
+        // (exit 75), not a silent success; usage errors go to stderr with exit 2
+        Err(e) if !e.use_stderr() => {
+            let text = if std::io::IsTerminal::is_terminal(&std::io::stdout()) {
+                e.render().ansi().to_string()
+            } else {
+                e.render().to_string()
+            };
+            out::write(format_args!("{text}"));
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => e.exit(),
+    };
     // A report piped into `head` ends quietly when the reader goes (the Unix default, which
     // Rust turns off). Not for `run` and `slurm`: a run must go on writing its results
     // whatever happens to its output, so it ignores a closed pipe instead.
@@ -92,7 +106,7 @@ pub fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args),
         Command::Run(args) => {
             signals::announce_stops(&std::env::args().collect::<Vec<_>>());
-            run::run(args)
+            run::run(args).and_then(|()| crate::sweep::stdout_failure())
         }
         Command::Plan(args) => plan::run(args),
         Command::Status(args) => status::run(args),
@@ -120,8 +134,8 @@ pub fn main() -> ExitCode {
             } else if crate::sweep::fs_error::is_resource_error(&err) {
                 // a full disk (or quota, read-only file system, failing device) anywhere
                 eprintln!(
-                    "  the file system refused the write ({}): free space or fix the device, \
-                     then run the same command again (exit code {})",
+                    "  the file system refused the write ({}): free space, make the directory \
+                     writable or fix the device, then run the same command again (exit code {})",
                     crate::sweep::fs_error::resource_kind(&err),
                     crate::sweep::fs_error::EXIT_RESOURCE
                 );

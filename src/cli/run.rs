@@ -121,6 +121,7 @@ fn plan_of_ids(
                 index: a + k,
                 id,
                 params,
+                swept: Vec::new(),
             })
         })
         .collect()
@@ -131,7 +132,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let by_ids = args.job_ids.is_some();
     let job_range = match (&args.job_ids, &args.job_range) {
         (Some(file), range) => {
+            let swept = phase::swept_in(&sweep);
             sweep.plan = plan_of_ids(file, range.as_deref(), &sweep.results_dir(&args.results))?;
+            for job in &mut sweep.plan {
+                job.swept = swept.clone();
+            }
             None
         }
         (None, Some(t)) => Some(parse_job_range(t, sweep.plan.len())?),
@@ -190,9 +195,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         Some(whole) if job_range.is_none() && !by_ids => {
             let written = tables::gather(&whole, &dirs)?;
             say!(
-                "tables: {} jobs of the sweep ({} done) in {}",
-                written.jobs,
-                written.done,
+                "tables of the whole sweep: {} in {}",
+                written.counts(),
                 dirs.tables.display()
             );
             whole

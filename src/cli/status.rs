@@ -10,7 +10,8 @@ use clap::Args;
 #[command(after_help = "Examples:
   granflow status results/quick                      # counts by state, progress, failures
   granflow status sweeps/quick.ron --where restitution=0.7
-  granflow status results/quick --json | jq '.counts'")]
+  granflow status results/quick --json | jq '.counts'
+  granflow status results/quick --verify             # every file of every job read whole")]
 pub struct StatusArgs {
     #[command(flatten)]
     pub source: SweepSource,
@@ -18,6 +19,10 @@ pub struct StatusArgs {
     /// progress and label) instead of the text
     #[arg(long)]
     pub json: bool,
+    /// read every done job's checkpoint and record log whole and check their CRC and digest
+    /// (without it they are checked cheaply: which job they name, their lengths)
+    #[arg(long)]
+    pub verify: bool,
 }
 
 /// The machine-readable status: {"sweep", "engine", "tables", "counts", "jobs": [...]}.
@@ -95,7 +100,7 @@ fn status_json(
 
 pub fn run(args: StatusArgs) -> anyhow::Result<()> {
     let (sweep, dirs) = args.source.open()?;
-    let jobs = tables::collect(&sweep, &dirs);
+    let jobs = tables::collect_checked(&sweep, &dirs, args.verify);
     if args.json {
         outln!(
             "{}",

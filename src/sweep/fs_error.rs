@@ -37,8 +37,9 @@ pub struct ResourceStop(pub String);
 /// once the disk has room).
 pub const EXIT_RESOURCE: u8 = 75;
 
-/// ENOSPC, EDQUOT, EFBIG, EIO, EROFS (Linux numbers).
-const RESOURCE_ERRNOS: &[i32] = &[28, 122, 27, 5, 30];
+/// ENOSPC, EDQUOT, EFBIG, EIO, EROFS, EACCES (Linux numbers): the place the files go, not
+/// the input, is at fault (a directory without write permission is a read-only directory).
+const RESOURCE_ERRNOS: &[i32] = &[28, 122, 27, 5, 30, 13];
 
 /// Whether an OS error number is a resource error.
 pub fn is_resource_errno(n: i32) -> bool {
@@ -76,6 +77,7 @@ pub fn resource_kind(err: &anyhow::Error) -> &'static str {
         Some(27) => "file size limit exceeded",
         Some(5) => "input/output error of the device",
         Some(30) => "read-only file system",
+        Some(13) => "permission denied (a directory without write permission)",
         _ => "resource error",
     }
 }

@@ -18,6 +18,9 @@ pub struct PlannedJob {
     pub id: JobId,
     /// resolved parameters
     pub params: JobParams,
+    /// the parameters its sweep varies (filled by [`super::load_sweep`]; a job's figures name
+    /// them with the chosen values, never as "at their defaults")
+    pub swept: Vec<&'static str>,
 }
 
 /// Where a set of values came from, for error messages.
@@ -73,9 +76,76 @@ pub fn check_job_memory(engine: &EngineDef, values: &Values) -> Result<(), Strin
     Ok(())
 }
 
+/// Most jobs one sweep may plan: a plan holds every job's parameters in memory (a few kB each)
+/// and every job gets a directory, so a grid whose axes multiply past this is refused before
+/// it is expanded.
+pub const MAX_JOBS: usize = 100_000;
+
+/// A count as people write it: digits in groups of three (`1 000 000`); beyond 10^15 in
+/// scientific notation.
+pub fn grouped(n: f64) -> String {
+    if n >= 1e15 {
+        return format!("{n:.3e}");
+    }
+    let digits = format!("{n:.0}");
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Refuse a sweep whose plan would exceed [`MAX_JOBS`], naming each axis with its length and
+/// the product, before anything is expanded (a product of three 1000-value ranges is 10^9
+/// jobs: expanding it would take minutes and gigabytes).
+fn check_plan_size(spec: &SweepSpec, engine: &EngineDef, src: &Source) -> Result<(), SpecError> {
+    let axes: Vec<(&str, usize)> = engine
+        .params
+        .iter()
+        .filter_map(|d| spec.axes.0.get(d.name).map(|v| (d.name, v.len())))
+        .collect();
+    let grid: f64 = axes.iter().map(|(_, n)| *n as f64).product();
+    let seeds = spec.seeds.len() as f64;
+    let jobs = (grid + spec.points.len() as f64) * seeds;
+    if jobs <= MAX_JOBS as f64 {
+        return Ok(());
+    }
+    let lengths: Vec<String> = axes.iter().map(|(_, n)| grouped(*n as f64)).collect();
+    let names: Vec<&str> = axes.iter().map(|(name, _)| *name).collect();
+    let points = if spec.points.is_empty() {
+        String::new()
+    } else {
+        format!(" + {} extra points", spec.points.len())
+    };
+    Err(src.error_at(
+        None,
+        "axes",
+        0,
+        format!(
+            "the axes multiply to {} = {} grid points ({}){points}, x {} = {} jobs: \
+             allowed at most {} jobs in one sweep; take fewer values, or split the sweep \
+             into several files",
+            lengths.join(" x "),
+            grouped(grid),
+            names.join(" x "),
+            if spec.seeds.len() == 1 {
+                "1 seed".to_string()
+            } else {
+                format!("{} seeds", spec.seeds.len())
+            },
+            grouped(jobs),
+            grouped(MAX_JOBS as f64)
+        ),
+    ))
+}
+
 /// Expand a validated spec into the plan.
 pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, SpecError> {
     let engine = engine_of(spec).expect("validated: the engine exists");
+    check_plan_size(spec, engine, src)?;
     let analyser = engine
         .analysis
         .analyser(&spec.analysis)
@@ -147,7 +217,7 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
         }
         let values = engine
             .resolve_values(&values)
-            .map_err(|p| at(&p.key, p.message))?;
+            .map_err(|p| at(&p.key, super::spec::readable_numbers(&p.message)))?;
         check_job_memory(engine, &values).map_err(|m| at("fixed", m))?;
         let probe = JobParams {
             engine: spec.engine.clone(),
@@ -178,6 +248,7 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
                 index: plan.len(),
                 id,
                 params,
+                swept: Vec::new(),
             });
         }
     }

@@ -168,7 +168,10 @@ impl RunSettings {
         if !(length.is_finite() && length > 0.0) {
             return Err((
                 clock.key(),
-                format!("{length} is out of range: allowed a finite value > 0"),
+                format!(
+                    "{} is out of range: allowed a finite value > 0",
+                    super::spec::readable_number(length)
+                ),
             ));
         }
         if clock == Clock::Steps && length.fract() != 0.0 {
@@ -187,16 +190,28 @@ impl RunSettings {
                 ),
             ));
         }
-        if !(interval.is_finite()
-            && interval > 0.0
-            && interval <= length
-            && length / interval <= 1e6)
-        {
+        let n = super::spec::readable_number;
+        if !(interval.is_finite() && interval > 0.0 && interval <= length) {
             return Err((
                 "snapshot_interval",
                 format!(
-                    "{interval} is out of range: allowed 0 < snapshot_interval <= {} ({length}), at most 1e6 snapshots",
-                    clock.key()
+                    "{} is out of range: allowed 0 < snapshot_interval <= {} ({})",
+                    n(interval),
+                    clock.key(),
+                    n(length)
+                ),
+            ));
+        }
+        if length / interval > 1e6 {
+            return Err((
+                "snapshot_interval",
+                format!(
+                    "snapshot_interval = {} and {} = {} make {} snapshots: allowed at most 1e6 \
+                     (raise the interval or shorten the run)",
+                    n(interval),
+                    clock.key(),
+                    n(length),
+                    n((length / interval).ceil())
                 ),
             ));
         }

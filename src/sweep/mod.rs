@@ -22,6 +22,7 @@ pub mod job;
 pub mod phase;
 pub mod ranges;
 pub mod runner;
+pub mod running;
 pub mod select;
 pub mod spec;
 pub mod store;
@@ -85,6 +86,7 @@ pub fn load_sweep(path: &Path, overrides: &[String]) -> Result<Sweep, SpecError>
     let src = spec::Source { path, text: &text };
     let mut spec = spec::parse(path, &text)?;
     spec::apply_overrides(&mut spec, overrides)?;
+    spec::unsign_zeros(&mut spec);
     spec::validate(&spec, &src)?;
     let plan = grid::expand(&spec, &src)?;
     let name = match &spec.name {
@@ -95,7 +97,12 @@ pub fn load_sweep(path: &Path, overrides: &[String]) -> Result<Sweep, SpecError>
             .unwrap_or_else(|| "sweep".into()),
     };
     spec.name = Some(name.clone());
-    Ok(Sweep { name, spec, plan })
+    let mut sweep = Sweep { name, spec, plan };
+    let swept = phase::swept_in(&sweep);
+    for job in &mut sweep.plan {
+        job.swept = swept.clone();
+    }
+    Ok(sweep)
 }
 
 impl Sweep {
@@ -125,6 +132,13 @@ impl Sweep {
     pub fn write_resolved(&self, dirs: &SweepDirs) -> anyhow::Result<()> {
         std::fs::create_dir_all(&dirs.tables)?;
         std::fs::create_dir_all(&dirs.jobs)?;
+        // a run with overrides keeps its tables under runs/: the sweep's directory says so
+        if !self.spec.overrides.is_empty()
+            && let Some(base) = dirs.jobs.parent()
+            && !base.join("README.txt").exists()
+        {
+            write_atomic(&base.join("README.txt"), RESULTS_README.as_bytes())?;
+        }
         let config = ron::ser::PrettyConfig::default()
             .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
         let text = ron::ser::to_string_pretty(&self.spec, config)?;
@@ -165,6 +179,17 @@ pub fn override_tag(overrides: &[String]) -> String {
 /// `results/<name>/runs/<overrides>`) using the resolved `sweep.ron` written by `run`.
 pub fn open_results(dir: &Path) -> Result<(Sweep, SweepDirs), SpecError> {
     let file = dir.join(RESOLVED_SWEEP_FILE);
+    if !file.exists() {
+        return Err(SpecError {
+            origin: Origin::File {
+                path: dir.to_path_buf(),
+                line: 0,
+                col: 0,
+            },
+            key: None,
+            message: not_a_results_dir(dir),
+        });
+    }
     let sweep = load_sweep(&file, &[])?;
     // the layout is `Sweep::results_dir`'s (DIR = <root>/<name>/, or <root>/<name>/runs/
     // <overrides>/ whose jobs are <root>/<name>/jobs/): take the jobs of the root the sweep
@@ -190,6 +215,42 @@ pub fn open_results(dir: &Path) -> Result<(Sweep, SweepDirs), SpecError> {
     ))
 }
 
+/// Why a directory without `sweep.ron` cannot be read as a sweep's results, and where to
+/// look: the runs with overrides under its `runs/`, when it has them.
+fn not_a_results_dir(dir: &Path) -> String {
+    let mut runs: Vec<String> = std::fs::read_dir(dir.join("runs"))
+        .map(|entries| {
+            entries
+                .flatten()
+                .filter(|e| e.path().join(RESOLVED_SWEEP_FILE).exists())
+                .map(|e| e.path().display().to_string())
+                .collect()
+        })
+        .unwrap_or_default();
+    runs.sort();
+    if runs.is_empty() {
+        format!(
+            "no {RESOLVED_SWEEP_FILE} here: not the results directory of a sweep (give \
+             results/<sweep> after `granflow run`, or the sweep file)"
+        )
+    } else {
+        format!(
+            "no {RESOLVED_SWEEP_FILE} here: this sweep was run only with --set overrides, whose \
+             tables are in runs/<overrides>/: give one of {} (or the sweep file with the same \
+             --set)",
+            runs.join(", ")
+        )
+    }
+}
+
+/// What `results/<sweep>/README.txt` says: where the tables of the sweep's runs are.
+const RESULTS_README: &str = "Results of a granflow sweep (layout: results/README.md of granflow).
+jobs/            every job of the sweep (one directory per job id), shared by all its runs
+runs/<set>/      the tables, phase diagrams and report of a run with --set overrides
+                 (one directory per set of overrides, named after it)
+sweep.ron, *.parquet, report.html here: those of the run without overrides, once there was one
+";
+
 /// Open a sweep from either a sweep file (with overrides, results under `root`) or a results
 /// directory.
 pub fn open_any(
@@ -206,38 +267,62 @@ pub fn open_any(
     }
 }
 
-/// Check that results can be written under `root` (created if missing): a path that is a file,
-/// or a directory that cannot be written, is bad input naming the path.
-pub fn check_results_root(root: &Path) -> Result<(), BadInput> {
+/// Check that results can be written under `root` (created if missing): a path that is a file
+/// is bad input naming the path; a directory that cannot be created or written is a resource
+/// error naming the path and why (read-only, full, no permission: exit 75 as everywhere), or
+/// bad input for any other reason.
+pub fn check_results_root(root: &Path) -> anyhow::Result<()> {
     if root.exists() && !root.is_dir() {
         return Err(BadInput(format!(
             "results path {} is not a directory",
             root.display()
-        )));
+        ))
+        .into());
     }
-    std::fs::create_dir_all(root).map_err(|e| {
-        BadInput(format!(
-            "results path {}: cannot create it: {e}",
-            root.display()
-        ))
-    })?;
+    let refused = |what: &str, e: std::io::Error| -> anyhow::Error {
+        if e.raw_os_error().is_some_and(fs_error::is_resource_errno) {
+            anyhow::Error::new(fs_error::PathError::new(root, e))
+                .context(format!("results path {}: {what}", root.display()))
+        } else {
+            BadInput(format!("results path {}: {what}: {e}", root.display())).into()
+        }
+    };
+    std::fs::create_dir_all(root).map_err(|e| refused("cannot create it", e))?;
     let probe = root.join(format!(".granflow-write-probe-{}", std::process::id()));
-    std::fs::write(&probe, b"").map_err(|e| {
-        BadInput(format!(
-            "results path {} cannot be written: {e}",
-            root.display()
-        ))
-    })?;
+    std::fs::write(&probe, b"").map_err(|e| refused("cannot be written", e))?;
     let _ = std::fs::remove_file(&probe);
     Ok(())
 }
 
+/// The first resource error (a full disk, ...) that stdout gave [`say`], if any.
+static STDOUT_LOST: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
+
 /// Print a line on stdout, ignoring a closed pipe (`granflow run ... | head` must not stop a
-/// run: results are written whatever happens to the output).
+/// run: results are written whatever happens to the output). A full stdout does not stop the
+/// run either (its results come first), but is remembered: [`stdout_failure`] ends the
+/// command with the resource exit code.
 pub fn say(line: &str) {
     let mut out = std::io::stdout().lock();
-    let _ = writeln!(out, "{line}");
-    let _ = out.flush();
+    if let Err(e) = writeln!(out, "{line}").and_then(|()| out.flush())
+        && e.raw_os_error().is_some_and(fs_error::is_resource_errno)
+    {
+        let mut lost = STDOUT_LOST.lock().unwrap_or_else(|p| p.into_inner());
+        lost.get_or_insert_with(|| e.to_string());
+    }
+}
+
+/// Err (exit code 75) when a line [`say`] wrote was lost to a resource error of stdout.
+pub fn stdout_failure() -> anyhow::Result<()> {
+    let lost = STDOUT_LOST.lock().unwrap_or_else(|p| p.into_inner());
+    match lost.as_ref() {
+        None => Ok(()),
+        Some(e) => Err(fs_error::ResourceStop(format!(
+            "writing to standard output: {e}: the command's own files are written, its \
+             output lines were lost (exit code {})",
+            fs_error::EXIT_RESOURCE
+        ))
+        .into()),
+    }
 }
 
 /// Write a file atomically: temp file in the same directory (named by host, process and a

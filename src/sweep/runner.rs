@@ -179,7 +179,11 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
             .progress_chars("=> "),
     );
     overall.set_message("ETA ?");
+    // jobs done and failed in this run
+    let counts = Mutex::new((0usize, 0usize));
+    // jobs with a result: the sweep line counts them, failed and stopped jobs apart
     let done_count = AtomicUsize::new(summary.already_done);
+    super::running::set_done(summary.already_done);
     let set_overall = |done: usize| {
         overall.set_prefix(format!(
             "{}: {done}/{} jobs done",
@@ -198,10 +202,16 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         } else {
             String::new()
         };
+        let failed = counts.lock().expect("counts").1;
         format!(
-            "sweep   {}: {done}/{} jobs done, {:.0} % of the estimated work{eta}",
+            "sweep   {}: {done}/{} jobs done{}, {:.0} % of the estimated work{eta}",
             sweep.name,
             selected.len(),
+            if failed > 0 {
+                format!(" ({failed} failed)")
+            } else {
+                String::new()
+            },
             100.0 * fraction
         )
     };
@@ -227,7 +237,6 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     let (tx, rx) = unbounded::<Message>();
     let next = AtomicUsize::new(0);
     let busy = AtomicUsize::new(0);
-    let counts = Mutex::new((0usize, 0usize));
     let halted: Mutex<Option<String>> = Mutex::new(None);
     // a resource error: the job stays resumable (not failed), and the run stops starting jobs
     let halt = |job: &PlannedJob, dir: &std::path::Path, err: &str| {
@@ -275,6 +284,8 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         Ok(checksum) => {
                             let _ = store::log(dir, &store::done_line(&checksum));
                             counts.lock().expect("counts").0 += 1;
+                            done_count.fetch_add(1, Ordering::Relaxed);
+                            super::running::add_done();
                             format!(
                                 "done    {} [{}] {}: {}, {:.1} s, {:.3e} events/s",
                                 job.id,
@@ -313,8 +324,9 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                         )
                     }
                 };
+                super::running::ended(dir);
                 drop(msg.claim);
-                let done = done_count.fetch_add(1, Ordering::Relaxed) + 1;
+                let done = done_count.load(Ordering::Relaxed);
                 set_overall(done);
                 say(line);
                 if !interactive {
@@ -367,6 +379,7 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
                                 continue;
                             }
                         };
+                        super::running::started(&dir);
                         let bar = multi.insert_before(&overall, ProgressBar::new(1000));
                         bar.set_style(
                             ProgressStyle::with_template("  {prefix} [{bar:20}] {msg}")
@@ -484,9 +497,8 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
     if opts.write_tables && summary.halted.is_none() {
         let written = tables::gather(sweep, dirs)?;
         say(format!(
-            "tables: {} jobs ({} done) in {}",
-            written.jobs,
-            written.done,
+            "tables: {} in {}",
+            written.counts(),
             dirs.tables.display()
         ));
     }

@@ -476,6 +476,8 @@ pub fn engine_of(spec: &SweepSpec) -> Option<&'static EngineDef> {
 /// `time=X`), `snapshot_interval=X` and `until_steady=WINDOW` (or `off`) set the run. Extra points keep their own explicit
 /// values.
 pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(), SpecError> {
+    // what each override set, to refuse a second one for the same thing
+    let mut set: Vec<(String, &String)> = Vec::new();
     for arg in overrides {
         let bad = |key: Option<&str>, message: String| SpecError {
             origin: Origin::Override(arg.clone()),
@@ -486,6 +488,19 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
             return Err(bad(None, "expected key=value or key=v1,v2,...".into()));
         };
         let key = key.trim();
+        if let Some(engine) = engine_of(spec) {
+            let slot = override_slot(key, engine);
+            if let Some((_, earlier)) = set.iter().find(|(s, _)| *s == slot) {
+                return Err(bad(
+                    Some(key),
+                    format!(
+                        "{slot} is already set by --set {earlier}: give each key once (several \
+                         values go into one --set as a list, {key}=v1,v2, or a range)"
+                    ),
+                ));
+            }
+            set.push((slot, arg));
+        }
         // a range (`linspace(0.5, 0.9, 5)`) gives its values, else a comma-separated list
         let texts: Vec<String> = match RangeCall::parse(value) {
             Some(call) => call
@@ -559,12 +574,14 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
                     ),
                 ));
             };
-            let parsed = values
+            let mut parsed = values
                 .iter()
                 .map(|s| def.parse_text(s).map_err(|m| bad(Some(key), m)))
                 .collect::<Result<Vec<_>, _>>()?;
-            for v in &parsed {
-                def.check_value(v).map_err(|m| bad(Some(key), m))?;
+            for v in &mut parsed {
+                unsigned_zero(v);
+                def.check_value(v)
+                    .map_err(|m| bad(Some(key), readable_numbers(&m)))?;
             }
             let mut replaced = engine.alternatives_of(def.name);
             replaced.push(def.name);
@@ -583,6 +600,91 @@ pub fn apply_overrides(spec: &mut SweepSpec, overrides: &[String]) -> Result<(),
         spec.overrides.push(arg.clone());
     }
     Ok(())
+}
+
+/// What an override of `key` sets, in words: a parameter and its alternatives (phi and N) are
+/// one thing, so are the run lengths on the engine's clocks, and `seed` and `seeds`.
+fn override_slot(key: &str, engine: &EngineDef) -> String {
+    if key == "seed" || key == "seeds" {
+        return "`seeds`".into();
+    }
+    if Clock::from_key(key).is_some() {
+        return "the run length".into();
+    }
+    match engine.param(key) {
+        Some(def) => {
+            let mut names = engine.alternatives_of(def.name);
+            if names.is_empty() {
+                return format!("`{}`", def.name);
+            }
+            names.push(def.name);
+            names.sort();
+            format!("`{}`", names.join("` or `"))
+        }
+        None => format!("`{key}`"),
+    }
+}
+
+/// A number as a person reads it: as written where it is short, in scientific notation where
+/// its digits would run on (1e308 is "1e308", not 309 digits).
+pub fn readable_number(x: f64) -> String {
+    let plain = x.to_string();
+    if plain.len() <= 16 {
+        return plain;
+    }
+    let short = format!("{x:e}");
+    if short.len() <= 10 {
+        short
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+/// `text` with every number of more than 16 digits (an engine's message about a value near
+/// the largest double) written by [`readable_number`].
+pub fn readable_numbers(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        let (before, from) = rest.split_at(start);
+        out.push_str(before);
+        let len = from
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(from.len());
+        let run = from[..len].trim_end_matches('.');
+        let glued = before
+            .chars()
+            .last()
+            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
+        let digits = run.chars().filter(char::is_ascii_digit).count();
+        match run.parse::<f64>() {
+            Ok(x) if digits > 16 && !glued => out.push_str(&readable_number(x)),
+            _ => out.push_str(run),
+        }
+        rest = &from[run.len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// A value -0.0 as 0.0: the same physics, so the same job (id, name and value).
+fn unsigned_zero(v: &mut ParamValue) {
+    if let ParamValue::Number(x) = v
+        && *x == 0.0
+    {
+        *x = 0.0;
+    }
+}
+
+/// Every -0.0 among a spec's parameter values (fixed, axes, points) as 0.0.
+pub fn unsign_zeros(spec: &mut SweepSpec) {
+    spec.fixed.0.values_mut().for_each(unsigned_zero);
+    for axis in spec.axes.0.values_mut() {
+        axis.iter_mut().for_each(unsigned_zero);
+    }
+    for point in &mut spec.points {
+        point.0.values_mut().for_each(unsigned_zero);
+    }
 }
 
 /// "unknown key `x`" or, for a key of another engine, which engine has it.
@@ -683,7 +785,16 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
         return Err(src.error_at(None, "name", 0, why));
     }
     spec.run.validate(engine).map_err(|(key, message)| {
-        at_override(spec, key)
+        // the snapshot interval is checked against the run length: blamed on whichever of the
+        // two a --set gave, else on the file's line of the key
+        let related = [key, spec.run.clock().key()];
+        let keys = if key == "snapshot_interval" {
+            &related[..]
+        } else {
+            &related[..1]
+        };
+        keys.iter()
+            .find_map(|k| at_override(spec, k))
             .unwrap_or_else(|| src.error_at(Some("run"), key, 0, message.clone()))
             .with_message(message)
     })?;
@@ -708,7 +819,7 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             ));
         };
         def.check_value(v)
-            .map_err(|m| src.error_at(Some(section), name, skip, m))
+            .map_err(|m| src.error_at(Some(section), name, skip, readable_numbers(&m)))
     };
     for (name, v) in &spec.fixed.0 {
         check("fixed", name, v, 0)?;

@@ -25,8 +25,25 @@ pub struct GatherSummary {
     pub jobs: usize,
     /// of which done
     pub done: usize,
+    /// of which running (held by a live runner: another one, which writes the tables again
+    /// when it ends)
+    pub running: usize,
     /// the tables written (without `.parquet`), `jobs` first
     pub tables: Vec<String>,
+}
+
+impl GatherSummary {
+    /// "4 jobs, 3 done" and, when some run elsewhere, "1 still running in another runner".
+    pub fn counts(&self) -> String {
+        let running = match self.running {
+            0 => String::new(),
+            n => format!(
+                ", {n} still running in another runner (a run rewrites the tables when it \
+                 ends; a --job-range or Slurm task does not: then `granflow gather`)"
+            ),
+        };
+        format!("{} jobs, {} done{running}", self.jobs, self.done)
+    }
 }
 
 /// One planned job with its state and (when done) its result.
@@ -36,8 +53,18 @@ pub struct GatheredJob<'a> {
     pub result: Option<JobResult>,
 }
 
-/// Read the state and result of every job of the plan.
+/// Read the state and result of every job of the plan, checking each job's files at a small
+/// cost (see [`collect_checked`]).
 pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
+    collect_checked(sweep, dirs, false)
+}
+
+/// Read the state and result of every job of the plan. A partial job's checkpoint and the
+/// records it covers are read and checked (a resume needs them); a done job's result and
+/// parameters file are read and checked, and its checkpoint and record log checked cheaply
+/// (which job they name, their lengths), or read whole and checked against their CRC and
+/// digest with `full` (`status --verify`).
+pub fn collect_checked<'a>(sweep: &'a Sweep, dirs: &SweepDirs, full: bool) -> Vec<GatheredJob<'a>> {
     sweep
         .plan
         .iter()
@@ -51,19 +78,17 @@ pub fn collect<'a>(sweep: &'a Sweep, dirs: &SweepDirs) -> Vec<GatheredJob<'a>> {
             }
             let result = if state == JobState::Done {
                 let checked = store::read_result(&dir)
-                    .map_err(|e| (store::RESULT_FILE, e))
+                    .map_err(|e| (store::RESULT_FILE, format!("{e:#}")))
                     .and_then(|r| {
                         store::read_params(&dir)
                             .map(|_| r)
-                            .map_err(|e| (store::PARAMS_FILE, e))
-                    });
+                            .map_err(|e| (store::PARAMS_FILE, format!("{e:#}")))
+                    })
+                    .and_then(|r| store::check_done_files(&dir, full).map(|()| r));
                 match checked {
                     Ok(r) => Some(r),
-                    Err((file, e)) => {
-                        state = JobState::Damaged {
-                            file,
-                            reason: format!("{e:#}"),
-                        };
+                    Err((file, reason)) => {
+                        state = JobState::Damaged { file, reason };
                         None
                     }
                 }
@@ -120,7 +145,8 @@ pub fn has_statistics(sweep: &Sweep) -> bool {
 /// Write the tables of a sweep into its tables directory: `jobs.parquet` and the row tables
 /// of its engine's analysis.
 pub fn gather(sweep: &Sweep, dirs: &SweepDirs) -> anyhow::Result<GatherSummary> {
-    std::fs::create_dir_all(&dirs.tables)?;
+    std::fs::create_dir_all(&dirs.tables)
+        .map_err(|e| super::fs_error::PathError::new(&dirs.tables, e))?;
     // one gather at a time in a tables directory (two runners end together): a second one
     // waits, then reads the jobs anew, so the set it writes is no older than the first's, and
     // no generation directory is being written while one is cleaned up
@@ -189,6 +215,7 @@ pub fn write_set(
     Ok(GatherSummary {
         jobs: jobs.len(),
         done: jobs.iter().filter(|j| j.result.is_some()).count(),
+        running: jobs.iter().filter(|j| j.state == JobState::Running).count(),
         tables: names,
     })
 }
@@ -210,7 +237,7 @@ pub fn lock_gathering(dir: &Path) -> anyhow::Result<std::fs::File> {
         .truncate(false)
         .write(true)
         .open(&path)
-        .map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))?;
+        .map_err(|e| super::fs_error::PathError::new(&path, e))?;
     let _ = file.lock();
     Ok(file)
 }

@@ -103,34 +103,97 @@ fn bad_input_exits_2_naming_the_key() {
     assert!(said(&out).contains("--job-range 1:1"), "{}", said(&out));
 }
 
+/// `granflow <args>` with stdout on /dev/full (every write fails with ENOSPC).
+fn to_full_stdout(args: &[&str]) -> Output {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    Command::new(BIN)
+        .args(args)
+        .stdout(Stdio::from(full))
+        .output()
+        .unwrap()
+}
+
+/// Issue 49: every subcommand, `--help`, `--version` and `completions` included, exits 75 when
+/// its stdout is full, saying so, and never panics (completions panicked with exit 101,
+/// `--help` exited 0 with its text lost). `run` first finishes its jobs: its results are on
+/// disk whatever happens to its output.
 #[test]
 fn a_full_stdout_is_an_error_not_a_panic() {
     let dir = scratch("stdout");
     let file = sweep_file(&dir, "ok.ron", SMALL);
-    for args in [
-        vec!["plan", file.to_str().unwrap()],
+    let (f, results) = (file.to_str().unwrap(), dir.join("results"));
+    let r = results.to_str().unwrap();
+    let out = to_full_stdout(&["run", f, "--results", r, "--threads", "1"]);
+    let text = said(&out);
+    assert_eq!(out.status.code(), Some(75), "run: {text}");
+    assert!(text.contains("standard output"), "run: {text}");
+    let tables = results.join("ok");
+    let t = tables.to_str().unwrap();
+    assert!(tables.join("jobs.parquet").exists(), "run: {text}");
+    let subcommands = [
+        "sim",
+        "engines",
+        "bench",
+        "run",
+        "plan",
+        "status",
+        "gather",
+        "phase-diagram",
+        "plot",
+        "lammps",
+        "lammps-import",
+        "report",
+        "slurm",
+        "completions",
+    ];
+    let mut cases: Vec<Vec<&str>> = vec![vec!["--help"], vec!["--version"]];
+    cases.extend(subcommands.iter().map(|c| vec![*c, "--help"]));
+    cases.extend([
+        vec!["completions", "bash"],
         vec!["engines"],
+        vec!["engines", "--markdown"],
+        vec!["plan", f, "--results", r],
+        vec!["status", t],
+        vec!["gather", t],
+        vec!["phase-diagram", t, "--x", "length_over_width"],
+        vec!["plot", t, "--x", "length_over_width", "--y", "humps"],
+        vec!["report", t],
+        vec!["slurm", "submit", f, "--results", r, "--dry-run"],
         vec![
-            "status",
-            file.to_str().unwrap(),
-            "--results",
-            dir.to_str().unwrap(),
+            "sim",
+            "--length-over-width",
+            "1",
+            "--width-over-diameter",
+            "4",
+            "--height-over-diameter",
+            "4",
+            "--volume-fraction",
+            "0.15",
+            "--collisions-per-particle",
+            "20",
         ],
-    ] {
-        let full = std::fs::OpenOptions::new()
-            .write(true)
-            .open("/dev/full")
-            .unwrap();
-        let out = Command::new(BIN)
-            .args(&args)
-            .stdout(Stdio::from(full))
-            .output()
-            .unwrap();
+        vec!["bench", "--workload", "lga-fig2"],
+    ]);
+    for args in &cases {
+        let out = to_full_stdout(args);
         let text = said(&out);
         assert_eq!(out.status.code(), Some(75), "{args:?}: {text}");
         assert!(!text.contains("panicked"), "{args:?}: {text}");
         assert!(text.contains("standard output"), "{args:?}: {text}");
     }
+    // the closed pipe of `granflow ... | head` is no error
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "{BIN} completions bash | head -c 10 >/dev/null; {BIN} --help | head -c 10"
+        ))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", said(&out));
+    assert!(!said(&out).contains("panicked"), "{}", said(&out));
 }
 
 /// A resource error while writing the resolved sweep, the tables or the phase diagram exits
@@ -251,10 +314,29 @@ fn a_stopped_run_says_how_to_resume() {
             "{name}: {text}"
         );
         assert!(text.contains("resume with:"), "{name}: {text}");
+        // issue 49: what it says is true (a job was running, none was done), and the
+        // running job's own log says it was stopped
+        assert!(text.contains("the running job resumes"), "{name}: {text}");
+        assert!(!text.contains("kept"), "{name}: {text}");
         let status = granflow(&["status", results.join("long").to_str().unwrap()]);
         let text = said(&status);
         assert!(status.status.success(), "{name}: {text}");
         assert!(text.contains("partial 1"), "{name}: {text}");
+        let jobs = results.join("long").join("jobs");
+        let job = std::fs::read_dir(&jobs)
+            .unwrap()
+            .next()
+            .unwrap()
+            .unwrap()
+            .path();
+        let log = std::fs::read_to_string(job.join("log.txt")).unwrap();
+        let last = log.lines().last().unwrap_or_default();
+        assert!(
+            last.ends_with(&format!(
+                "stopped by signal {name}; resumes from its last checkpoint"
+            )),
+            "{name}: {log}"
+        );
     }
 }
 
@@ -264,4 +346,291 @@ fn libc_sigterm() -> i32 {
 
 fn libc_sigint() -> i32 {
     2
+}
+
+/// `granflow <args>` with its own resource use: the output, the child's peak resident memory
+/// in kB and the CPU seconds it used (wait4 on this child alone: other tests' children run at
+/// the same time).
+fn measured(args: &[&str]) -> (Output, i64, f64) {
+    use std::io::Read;
+    let mut child = Command::new(BIN)
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (mut stdout, mut stderr) = (Vec::new(), Vec::new());
+    let mut err_pipe = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut buf = Vec::new();
+        err_pipe.read_to_end(&mut buf).unwrap();
+        buf
+    });
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_end(&mut stdout)
+        .unwrap();
+    stderr.extend(reader.join().unwrap());
+    let mut status = 0;
+    // SAFETY: an all-zero rusage is valid; wait4 fills it for this child
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = unsafe { libc::wait4(child.id() as i32, &mut status, 0, &mut usage) };
+    assert_eq!(pid, child.id() as i32);
+    let cpu = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    let output = Output {
+        status: std::os::unix::process::ExitStatusExt::from_raw(status),
+        stdout,
+        stderr,
+    };
+    (
+        output,
+        usage.ru_maxrss,
+        cpu(usage.ru_utime) + cpu(usage.ru_stime),
+    )
+}
+
+/// Issue 49: three 1000-value ranges make 10^9 jobs; such a grid is refused before it is
+/// expanded (it used to grow to gigabytes without a word), by `plan` and by `run`, naming each
+/// axis, the product and the limit. The bounds (1 CPU second, 100 MB) are the issue's: a
+/// refusal costs milliseconds and the binary's own pages, expanding costs ~4 kB per job.
+#[test]
+fn a_grid_of_a_billion_jobs_is_refused_at_once() {
+    let dir = scratch("billion");
+    let file = sweep_file(
+        &dir,
+        "huge.ron",
+        "engine: \"edmd\", fixed: (width_over_diameter: 4.0, height_over_diameter: 4.0), \
+         axes: (length_over_width: linspace(1, 2, 1000), restitution: linspace(0.1, 0.9, 1000), \
+         volume_fraction: linspace(0.01, 0.2, 1000)), run: (collisions_per_particle: 60, snapshot_interval: 20)",
+    );
+    let results = dir.join("results");
+    for command in ["plan", "run"] {
+        let (out, rss_kb, cpu) = measured(&[
+            command,
+            file.to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+        ]);
+        let text = said(&out);
+        assert_eq!(out.status.code(), Some(2), "{command}: {text}");
+        for wanted in [
+            "1 000 x 1 000 x 1 000",
+            "length_over_width x volume_fraction x restitution",
+            "1 000 000 000 jobs",
+            "at most 100 000 jobs",
+        ] {
+            assert!(
+                text.contains(wanted),
+                "{command}: `{wanted}` not said: {text}"
+            );
+        }
+        assert!(rss_kb < 100_000, "{command}: {rss_kb} kB");
+        assert!(cpu < 1.0, "{command}: {cpu} CPU s");
+        assert!(!results.exists(), "{command} wrote something");
+    }
+}
+
+/// The longest run of digits in a text (a number a person cannot read is one of hundreds).
+fn longest_digit_run(text: &str) -> usize {
+    text.split(|c: char| !c.is_ascii_digit())
+        .map(str::len)
+        .max()
+        .unwrap_or(0)
+}
+
+/// Issue 49: values near the largest double are refused with the key and the source that set
+/// them (the file's line, or the --set option) in numbers a person can read; a key given twice
+/// by --set is refused naming both; -0 is the same point as 0.
+#[test]
+fn huge_values_repeated_overrides_and_negative_zero() {
+    let dir = scratch("huge");
+    let file = sweep_file(&dir, "ok.ron", SMALL);
+    let f = file.to_str().unwrap();
+
+    // W/d = 1e308 in the file: the engine cannot place the spheres; no 309-digit numbers
+    let huge = sweep_file(
+        &dir,
+        "huge.ron",
+        &SMALL.replace("width_over_diameter: 4.0", "width_over_diameter: 1e308"),
+    );
+    let out = granflow(&["plan", huge.to_str().unwrap()]);
+    let text = said(&out);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    assert!(text.contains("huge.ron:"), "{text}");
+    assert!(text.contains("1e308"), "{text}");
+    assert!(longest_digit_run(&text) <= 20, "{text}");
+
+    // a run length of 1e308 from --set with the file's interval: too many snapshots, blamed on
+    // the option that gave it, not on the file's line of the interval
+    let out = granflow(&["plan", f, "--set", "collisions_per_particle=1e308"]);
+    let text = said(&out);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    assert!(
+        text.contains("--set collisions_per_particle=1e308"),
+        "{text}"
+    );
+    assert!(!text.contains("ok.ron:"), "blamed on the file: {text}");
+    assert!(text.contains("at most 1e6"), "{text}");
+    assert!(longest_digit_run(&text) <= 20, "{text}");
+
+    // the same key twice (or its alternative): refused, naming both
+    for (first, second) in [
+        ("restitution=0.5", "restitution=0.6"),
+        ("volume_fraction=0.1", "particles=20"),
+        ("collisions_per_particle=40", "time=3"),
+        ("seeds=1,2", "seed=3"),
+    ] {
+        let out = granflow(&["plan", f, "--set", first, "--set", second]);
+        let text = said(&out);
+        assert_eq!(out.status.code(), Some(2), "{first} {second}: {text}");
+        assert!(text.contains(&format!("--set {second}")), "{text}");
+        assert!(
+            text.contains(&format!("already set by --set {first}")),
+            "{text}"
+        );
+    }
+
+    // -0 is 0: the same job ids, shown as 0, with --set and in the file
+    let ids = |args: &[&str]| -> Vec<String> {
+        let out = granflow(args);
+        assert!(out.status.success(), "{args:?}: {}", said(&out));
+        String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .filter_map(|l| {
+                let w: Vec<&str> = l.split_whitespace().collect();
+                (w.len() > 2 && w[0].parse::<usize>().is_ok()).then(|| w[1].to_string())
+            })
+            .collect()
+    };
+    let zero = ids(&["plan", f, "--set", "restitution=0"]);
+    assert_eq!(zero.len(), 2);
+    assert_eq!(ids(&["plan", f, "--set", "restitution=-0"]), zero);
+    let negative = sweep_file(
+        &dir,
+        "negative.ron",
+        &SMALL.replace(
+            "volume_fraction: 0.15",
+            "volume_fraction: 0.15, restitution: -0.0",
+        ),
+    );
+    assert_eq!(ids(&["plan", negative.to_str().unwrap()]), zero);
+    let both = sweep_file(
+        &dir,
+        "both.ron",
+        &SMALL.replace("axes: (", "axes: (restitution: [0.0, -0.0], "),
+    );
+    let out = granflow(&["plan", both.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "{}", said(&out));
+    assert!(said(&out).contains("duplicate value"), "{}", said(&out));
+}
+
+/// Issue 49: a read-only results directory is a resource error (exit 75, naming the path and
+/// "read-only") for every command that must write there (run, gather, report); `status` only
+/// reads and reports it as it is. Where this machine lets a test mount a tmpfs read-only.
+#[test]
+fn a_read_only_results_directory_exits_75_everywhere() {
+    let dir = scratch("read-only");
+    let mount = dir.join("ro");
+    std::fs::create_dir_all(&mount).unwrap();
+    let mounted = Command::new("mount")
+        .args([
+            "-t",
+            "tmpfs",
+            "-o",
+            "size=16m",
+            "tmpfs",
+            mount.to_str().unwrap(),
+        ])
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        eprintln!("no tmpfs could be mounted here: the read-only case is not tested");
+        return;
+    }
+    let file = sweep_file(&dir, "ok.ron", SMALL);
+    let (f, m) = (file.to_str().unwrap(), mount.to_str().unwrap());
+    let ran = granflow(&["run", f, "--results", m, "--threads", "1"]);
+    let read_only = Command::new("mount")
+        .args(["-o", "remount,ro", m])
+        .status()
+        .is_ok_and(|s| s.success());
+    let tables = mount.join("ok");
+    let t = tables.to_str().unwrap();
+    let outs: Vec<(&str, Output)> = if ran.status.success() && read_only {
+        vec![
+            (
+                "run",
+                granflow(&["run", f, "--results", m, "--threads", "1"]),
+            ),
+            ("gather", granflow(&["gather", t])),
+            ("report", granflow(&["report", t])),
+            ("status", granflow(&["status", t])),
+        ]
+    } else {
+        Vec::new()
+    };
+    let _ = Command::new("umount").arg(m).status();
+    assert!(ran.status.success(), "{}", said(&ran));
+    assert!(read_only, "remount read-only failed");
+    for (command, out) in &outs {
+        let text = said(out);
+        if *command == "status" {
+            assert!(out.status.success(), "status: {text}");
+            assert!(text.contains("done 2"), "status: {text}");
+        } else {
+            assert_eq!(out.status.code(), Some(75), "{command}: {text}");
+            assert!(text.contains("read-only"), "{command}: {text}");
+            assert!(text.contains(m), "{command}: no path: {text}");
+        }
+    }
+}
+
+/// Issue 49: the sweep line counts jobs with a result, never a job a resource error stopped
+/// (it said "1/2 jobs done" right after the only running job was stopped). Every `sweep`
+/// line's count equals the `done` lines before it.
+#[test]
+fn the_sweep_line_after_a_stop_counts_only_done_jobs() {
+    let dir = scratch("sweep-line");
+    let file = sweep_file(&dir, "ok.ron", SMALL);
+    let f = file.to_str().unwrap();
+    let mut stopped = None;
+    // a file-size limit that lets the resolved sweep and the parameters through but stops the
+    // first job's checkpoint or record log
+    for blocks in 1..=64 {
+        let results = dir.join(format!("results-{blocks}"));
+        let out = limited(
+            blocks,
+            &[
+                "run",
+                f,
+                "--results",
+                results.to_str().unwrap(),
+                "--threads",
+                "1",
+            ],
+        );
+        let text = said(&out);
+        if text.contains("STOPPED") {
+            assert_eq!(out.status.code(), Some(75), "{text}");
+            stopped = Some(text);
+            break;
+        }
+    }
+    let text = stopped.expect("no file-size limit stopped a job");
+    let mut done = 0;
+    let mut lines = 0;
+    for line in text.lines() {
+        if line.starts_with("done    ") {
+            done += 1;
+        }
+        if let Some(rest) = line.strip_prefix("sweep   ok: ") {
+            let counted: usize = rest.split('/').next().unwrap().parse().unwrap();
+            assert_eq!(counted, done, "{line}\n{text}");
+            lines += 1;
+        }
+    }
+    assert!(lines > 0, "no sweep line: {text}");
 }

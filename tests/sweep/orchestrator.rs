@@ -614,6 +614,26 @@ fn two_runners_never_run_the_same_job() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
+    // issue 49: the final tables are never stale. Each runner gathers at its end under the
+    // gather lock from what is on disk, so the runner that ends last writes every result;
+    // the tables are read back before anything else gathers
+    let states = {
+        use polars::prelude::SerReader;
+        let table = std::fs::File::open(results.join("proc").join("jobs.parquet")).unwrap();
+        let frame = polars::prelude::ParquetReader::new(table)
+            .with_columns(Some(vec!["state".into()]))
+            .finish()
+            .unwrap();
+        frame
+            .column("state")
+            .unwrap()
+            .str()
+            .unwrap()
+            .iter()
+            .map(|s| s.unwrap_or_default().to_string())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(states, vec!["done"; 6], "stale final tables");
     let dirs = job_dirs(&results);
     assert_eq!(dirs.len(), 6);
     for d in &dirs {
@@ -627,6 +647,16 @@ fn two_runners_never_run_the_same_job() {
     let out = granflow(&["status", results.join("proc").to_str().unwrap()]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success() && text.contains("done 6"), "{text}");
+    // a sweep run only with overrides: its directory has no tables of its own, and says
+    // where they are (README.txt); `status` on it points to runs/ (issue 49)
+    let only = dir.join("only-overrides");
+    granflow_ok(&run_args(&file, &only, &["--set", "restitution=0.9"]));
+    let readme = std::fs::read_to_string(only.join("proc").join("README.txt")).unwrap();
+    assert!(readme.contains("runs/<set>/"), "{readme}");
+    let out = granflow(&["status", only.join("proc").to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    assert!(text.contains("runs/restitution=0.9"), "{text}");
     // an override reaching computed points: its own tables, the jobs reused (not rerun)
     granflow_ok(&run_args(&file, &results, &["--set", "restitution=0.9"]));
     let run_dir = results.join("proc/runs/restitution=0.9");

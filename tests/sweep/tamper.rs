@@ -237,9 +237,20 @@ fn an_emptied_or_foreign_params_file_is_damaged() {
         )
         .unwrap();
         ran.detected_and_recomputed(engine, &[0, 1], &["params.json", "belongs to job"]);
-        // rewritten from the plan, the damaged ones kept beside
+        // rewritten from the plan, the damaged ones kept beside; the job stays done with the
+        // result it had, and its log gets no second (false) `done` line (issue 49)
         for d in &ran.jobs[..2] {
             assert!(store::read_params(d).is_ok(), "{engine}");
+            let log = std::fs::read_to_string(d.join(store::LOG_FILE)).unwrap();
+            assert!(!log.contains("logged late"), "{engine}: {log}");
+            assert_eq!(
+                store::log_events(&log)
+                    .iter()
+                    .filter(|e| e.starts_with("done"))
+                    .count(),
+                1,
+                "{engine}: {log}"
+            );
         }
     }
     // a params.json whose parameters were edited (its id and canonical form left alone)
@@ -250,4 +261,55 @@ fn an_emptied_or_foreign_params_file_is_damaged() {
     assert_ne!(edited, text, "nothing edited");
     std::fs::write(&path, edited).unwrap();
     ran.detected_and_recomputed("edmd", &[0], &["do not give its canonical form"]);
+}
+
+/// Issue 49: the checkpoint and record log of *done* jobs are checked too. Cheaply by every
+/// `status` (which job they name, their lengths): a record log copied from another job and a
+/// checkpoint cut short are found at once; a byte flipped inside a record log only by `status
+/// --verify`, which reads the files whole. `run --retry-failed` finds all three, sets the
+/// files aside with the result and recomputes each job to the result it had.
+#[test]
+fn damaged_files_of_done_jobs_are_found_by_status() {
+    for (engine, sweep) in SWEEPS {
+        let ran = Ran::new(&format!("done-files-{engine}"), sweep);
+        let (a, b, c) = (&ran.jobs[0], &ran.jobs[1], &ran.jobs[2]);
+        std::fs::copy(b.join(store::RECORDS_FILE), a.join(store::RECORDS_FILE)).unwrap();
+        let cp = std::fs::read(b.join(store::CHECKPOINT_FILE)).unwrap();
+        std::fs::write(b.join(store::CHECKPOINT_FILE), &cp[..cp.len() - 9]).unwrap();
+        let mut log = std::fs::read(c.join(store::RECORDS_FILE)).unwrap();
+        let mid = log.len() / 2;
+        log[mid] ^= 0x40;
+        std::fs::write(c.join(store::RECORDS_FILE), &log).unwrap();
+
+        let status = ran.status();
+        let out = text(&status);
+        assert_eq!(status.status.code(), Some(1), "{engine}: {out}");
+        assert!(out.contains("damaged 2"), "{engine}: {out}");
+        assert!(out.contains("belongs to job"), "{engine}: {out}");
+        assert!(out.contains("checkpoint.bin"), "{engine}: {out}");
+        let verified = granflow(&["status", ran.tables.to_str().unwrap(), "--verify"]);
+        let out = text(&verified);
+        assert_eq!(verified.status.code(), Some(1), "{engine}: {out}");
+        assert!(out.contains("damaged 3"), "{engine}: {out}");
+        assert!(out.contains("digest"), "{engine}: {out}");
+
+        let retried = ran.run(&["--retry-failed"]);
+        assert!(retried.status.success(), "{engine}: {}", text(&retried));
+        for (i, d) in ran.jobs.iter().enumerate() {
+            assert_eq!(deterministic(d), ran.good[i], "{engine}: job {i}");
+        }
+        let verified = granflow(&["status", ran.tables.to_str().unwrap(), "--verify"]);
+        assert!(verified.status.success(), "{engine}: {}", text(&verified));
+        // the damaged files were set aside (never deleted), the result with them
+        for d in &ran.jobs {
+            let names: Vec<String> = std::fs::read_dir(d)
+                .unwrap()
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect();
+            assert!(
+                names.iter().any(|n| n.starts_with("result.ron.damaged-")),
+                "{engine}: {names:?}"
+            );
+        }
+    }
 }

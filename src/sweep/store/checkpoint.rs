@@ -235,6 +235,116 @@ pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
     Ok(Some(cp))
 }
 
+/// What [`checkpoint_tail`] reads of a checkpoint: the job it names and how much of the
+/// record log it covers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckpointTail {
+    pub job_id: String,
+    /// bytes of frames after the log's header
+    pub records_bytes: u64,
+    /// whether the log it covers starts with a header (format 4 on)
+    pub log_has_header: bool,
+}
+
+/// The fields after the engine's bytes, formats 3 and 4 (frozen: postcard needs the layout).
+#[derive(Deserialize)]
+struct TailV4 {
+    _records: u64,
+    records_bytes: u64,
+    _wall_seconds: f64,
+    _progress: crate::engine::Progress,
+    job_id: String,
+    records_digest: String,
+}
+
+#[derive(Deserialize)]
+struct TailV3 {
+    _records: u64,
+    records_bytes: u64,
+    _wall_seconds: f64,
+    _progress: crate::engine::Progress,
+    job_id: String,
+}
+
+/// Most bytes a checkpoint's fields after the engine's bytes take (they are a few hundred).
+const TAIL_MAX: u64 = 4096;
+
+/// A cheap look at a job's checkpoint (None when there is none, or it is of format 1, which
+/// held its records itself): its first bytes and its last ones, skipping the engine's state,
+/// so that a checkpoint of another job, or one cut short or grown, is found without reading
+/// it whole. Its CRC is not checked ([`read_checkpoint`] does that).
+pub fn checkpoint_tail(dir: &Path) -> anyhow::Result<Option<CheckpointTail>> {
+    use std::io::{Read, Seek, SeekFrom};
+    let path = dir.join(CHECKPOINT_FILE);
+    let mut file = match std::fs::File::open(&path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(anyhow::anyhow!("{}: {e}", path.display())),
+    };
+    let len = file.metadata()?.len();
+    let mut head = [0u8; 32];
+    let got = file.read(&mut head)?;
+    let damaged = |why: &str| anyhow::anyhow!("{}: {why} (damaged)", path.display());
+    let head = &head[..got];
+    let (format, rest) =
+        postcard::take_from_bytes::<u32>(head).map_err(|_| damaged("truncated checkpoint"))?;
+    if format == 1 {
+        return Ok(None);
+    }
+    let (_snapshot, rest) =
+        postcard::take_from_bytes::<u32>(rest).map_err(|_| damaged("truncated checkpoint"))?;
+    let (engine_len, rest) =
+        postcard::take_from_bytes::<u64>(rest).map_err(|_| damaged("truncated checkpoint"))?;
+    let engine_at = (head.len() - rest.len()) as u64;
+    let tail_at = engine_at.saturating_add(engine_len);
+    anyhow::ensure!(
+        tail_at + 4 <= len && len - tail_at <= TAIL_MAX,
+        "{}: {len} bytes where its engine state alone takes {engine_len} (cut short or grown: \
+         damaged)",
+        path.display()
+    );
+    file.seek(SeekFrom::Start(tail_at))?;
+    let mut tail = Vec::new();
+    file.read_to_end(&mut tail)?;
+    let fields = &tail[..tail.len() - 4];
+    let tail = match format {
+        3 => postcard::take_from_bytes::<TailV3>(fields).map(|(t, rest)| {
+            (
+                CheckpointTail {
+                    job_id: t.job_id,
+                    records_bytes: t.records_bytes,
+                    log_has_header: false,
+                },
+                rest.len(),
+            )
+        }),
+        CHECKPOINT_FORMAT => postcard::take_from_bytes::<TailV4>(fields).map(|(t, rest)| {
+            (
+                CheckpointTail {
+                    job_id: t.job_id,
+                    records_bytes: t.records_bytes,
+                    log_has_header: t.records_digest.len() == 64,
+                },
+                rest.len(),
+            )
+        }),
+        other => anyhow::bail!(
+            "{}: checkpoint format {other} (this granflow reads formats 1, 3 and {CHECKPOINT_FORMAT})",
+            path.display()
+        ),
+    };
+    let (tail, left) = tail.map_err(|_| damaged("its last fields do not read"))?;
+    anyhow::ensure!(
+        left == 0,
+        "{}: {left} bytes too many after its last field (damaged)",
+        path.display()
+    );
+    if !tail.job_id.is_empty() {
+        super::check_owner(dir, &tail.job_id, &path)?;
+    }
+    Ok(Some(tail))
+}
+
 /// Write a job's checkpoint atomically.
 pub fn write_checkpoint(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<()> {
     let mut bytes = postcard::to_stdvec(cp)?;

@@ -6,8 +6,8 @@
 //! that locking works on the results file system at all ([`check_locking`]).
 
 use super::{
-    CHECKPOINT_FILE, FAILED_FILE, JobState, LOCK_FILE, PARAMS_FILE, RECORDS_FILE, log, set_aside,
-    state_unlocked,
+    CHECKPOINT_FILE, FAILED_FILE, JobState, LOCK_FILE, PARAMS_FILE, RECORDS_FILE, RESULT_FILE, log,
+    set_aside, state_unlocked,
 };
 use std::fs::{File, OpenOptions};
 use std::io::Write;
@@ -144,8 +144,10 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
                 return Ok(Err(NotClaimed::Damaged(reason.clone())));
             }
             JobState::Damaged { file, reason } => {
+                // a done job's result goes with them: it is recomputed from scratch, so that
+                // result, checkpoint and records are one run's again
                 let files: &[&str] = match *file {
-                    CHECKPOINT_FILE | RECORDS_FILE => &[CHECKPOINT_FILE, RECORDS_FILE],
+                    CHECKPOINT_FILE | RECORDS_FILE => &[CHECKPOINT_FILE, RECORDS_FILE, RESULT_FILE],
                     _ => std::slice::from_ref(file),
                 };
                 for f in files {

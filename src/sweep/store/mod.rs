@@ -27,10 +27,11 @@ mod records;
 mod result;
 
 pub use checkpoint::{
-    JobCheckpoint, checkpoint_measure, checkpoint_progress, read_checkpoint, write_checkpoint,
+    CheckpointTail, JobCheckpoint, checkpoint_measure, checkpoint_progress, checkpoint_tail,
+    read_checkpoint, write_checkpoint,
 };
 pub use claim::{Claim, NotClaimed, allow_claims_without_locks, check_locking, holder, try_claim};
-pub use records::{RecordLog, load_records, records_so_far};
+pub use records::{RecordLog, check_log_cheaply, load_records, records_so_far};
 pub use result::{JobResult, RESULT_FORMAT, done_line, read_result, write_result};
 use std::fs::OpenOptions;
 use std::io::Write;
@@ -153,12 +154,25 @@ pub fn job_state_checked(dir: &Path, verify: bool) -> JobState {
     if !verify && dir.join(RESULT_FILE).exists() {
         return JobState::Done;
     }
-    if let Ok(f) = OpenOptions::new().write(true).open(dir.join(LOCK_FILE))
-        && f.try_lock().is_err()
-    {
+    if held_by_a_runner(dir) {
         return JobState::Running;
     }
     state_unlocked(dir, verify)
+}
+
+/// Whether a live runner holds the job's lock. The lock file is opened for writing, or for
+/// reading where the directory is read-only (`status` of an archived sweep), and locked for
+/// an instant when free.
+fn held_by_a_runner(dir: &Path) -> bool {
+    let path = dir.join(LOCK_FILE);
+    let file = OpenOptions::new()
+        .write(true)
+        .open(&path)
+        .or_else(|_| std::fs::File::open(&path));
+    matches!(
+        file.map(|f| f.try_lock()),
+        Ok(Err(std::fs::TryLockError::WouldBlock))
+    )
 }
 
 /// The state ignoring the lock (what a runner that holds the lock sees). A result counts as
@@ -175,11 +189,16 @@ fn state_unlocked(dir: &Path, verify: bool) -> JobState {
         };
     }
     if dir.join(RESULT_FILE).exists() {
-        if verify && let Err(e) = read_result(dir) {
-            return JobState::Damaged {
-                file: RESULT_FILE,
-                reason: format!("{e:#}"),
-            };
+        if verify {
+            if let Err(e) = read_result(dir) {
+                return JobState::Damaged {
+                    file: RESULT_FILE,
+                    reason: format!("{e:#}"),
+                };
+            }
+            if let Err((file, reason)) = check_done_files(dir, true) {
+                return JobState::Damaged { file, reason };
+            }
         }
         return JobState::Done;
     }
@@ -201,6 +220,30 @@ fn state_unlocked(dir: &Path, verify: bool) -> JobState {
             reason: format!("{e:#}"),
         },
     }
+}
+
+/// Check a done job's checkpoint and record log (its result and parameters are checked when
+/// read): cheaply (the checkpoint's first and last bytes name this job and fit its length, the
+/// log's header names it and the log holds what the checkpoint covers), or in `full` (the
+/// checkpoint's CRC, the log's frames and its digest). A done job without a checkpoint (one
+/// imported from another code) has nothing to check. The damaged file and why.
+pub fn check_done_files(dir: &Path, full: bool) -> Result<(), (&'static str, String)> {
+    let damaged = |file: &'static str| move |e: anyhow::Error| (file, format!("{e:#}"));
+    if full {
+        let Some(cp) = read_checkpoint(dir).map_err(damaged(CHECKPOINT_FILE))? else {
+            return Ok(());
+        };
+        load_records(dir, &cp).map_err(damaged(RECORDS_FILE))?;
+        return Ok(());
+    }
+    let Some(tail) = checkpoint_tail(dir).map_err(damaged(CHECKPOINT_FILE))? else {
+        return Ok(());
+    };
+    let id = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    check_log_cheaply(dir, &id, &tail).map_err(damaged(RECORDS_FILE))
 }
 
 /// A file that names another job than its directory's is misplaced.
@@ -302,7 +345,9 @@ pub fn complete_done_log(dir: &Path) -> std::io::Result<()> {
         return Ok(());
     }
     let text = std::fs::read_to_string(dir.join(LOG_FILE)).unwrap_or_default();
-    match log_events(&text).last() {
+    // the last line of the job's course (start, resume, done, outdated): lines about its
+    // files (a parameters file set aside and rewritten), claims or stops do not undo a done
+    match result::last_course_event(&text) {
         Some(last) if last.starts_with("done") => Ok(()),
         _ => match read_result(dir) {
             Ok(result) => log(

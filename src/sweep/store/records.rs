@@ -211,6 +211,48 @@ pub fn records_so_far(dir: &Path) -> anyhow::Result<Vec<Record>> {
     }
 }
 
+/// A cheap look at a job's record log against what its checkpoint says (`tail`): the header
+/// names job `job_id` (where the checkpoint expects one) and the log holds at least the bytes
+/// the checkpoint covers. Frames are not read ([`load_records`] does that).
+pub fn check_log_cheaply(
+    dir: &Path,
+    job_id: &str,
+    tail: &super::CheckpointTail,
+) -> anyhow::Result<()> {
+    let path = dir.join(RECORDS_FILE);
+    let mut file = File::open(&path)
+        .map_err(|e| anyhow::anyhow!("{}: cannot open the record log: {e}", path.display()))?;
+    let len = file.metadata()?.len();
+    let mut head = vec![0u8; HEADER_LEN];
+    let got = read_up_to(&mut file, &mut head)?;
+    head.truncate(got);
+    let header = if tail.log_has_header {
+        let owner = header_job(&head).ok_or_else(|| {
+            anyhow::anyhow!(
+                "{}: the record log has no header naming its job, and its checkpoint expects \
+                 one (replaced or damaged)",
+                path.display()
+            )
+        })?;
+        anyhow::ensure!(
+            owner == job_id,
+            "{}: the record log belongs to job {owner}, not to {job_id} (copied from another job?)",
+            path.display()
+        );
+        HEADER_LEN as u64
+    } else {
+        0
+    };
+    anyhow::ensure!(
+        len >= header + tail.records_bytes,
+        "{}: the record log is {len} bytes, shorter than the {} its checkpoint covers (cut \
+         short: damaged)",
+        path.display(),
+        header + tail.records_bytes
+    );
+    Ok(())
+}
+
 /// The record log of a running job, open for appending.
 pub struct RecordLog {
     path: PathBuf,

@@ -155,16 +155,22 @@ pub fn read_result(dir: &Path) -> anyhow::Result<JobResult> {
 /// new result due.
 fn logged_checksum(dir: &Path) -> Option<String> {
     let text = std::fs::read_to_string(dir.join(super::LOG_FILE)).ok()?;
-    let last = super::log_events(&text).into_iter().rev().find(|e| {
-        ["done", "start", "resume", "outdated"]
-            .iter()
-            .any(|w| e.starts_with(w))
-    })?;
-    last.strip_prefix("done")?
+    last_course_event(&text)?
+        .strip_prefix("done")?
         .split_whitespace()
         .find_map(|w| w.strip_prefix("checksum="))
         .filter(|s| !s.is_empty())
         .map(str::to_string)
+}
+
+/// The last event of a log's text that marks the job's course (start, resume, done, a result
+/// retired as outdated), without its time.
+pub(super) fn last_course_event(text: &str) -> Option<&str> {
+    super::log_events(text).into_iter().rev().find(|e| {
+        ["done", "start", "resume", "outdated"]
+            .iter()
+            .any(|w| e.starts_with(w))
+    })
 }
 
 /// The log line that marks a job done, with the checksum of its result (results of older
