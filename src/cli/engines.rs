@@ -8,7 +8,8 @@ use clap::Args;
 
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
-  granflow engines              # every engine with its parameters, clocks and counters
+  granflow engines              # every engine: its parameters (symbol, unit, default,
+                                # allowed values, meaning), clocks and counters
   granflow engines --markdown   # the parameter tables of docs/parameters.md")]
 pub struct EnginesArgs {
     /// print the parameter tables as markdown (the ones docs/parameters.md shows)
@@ -36,6 +37,17 @@ pub fn markdown() -> String {
     out
 }
 
+/// A parameter's default as the tables show it: a number, a name, "required" or "derived".
+pub fn default_text(default: &crate::engine::declare::ParamDefault) -> String {
+    use crate::engine::declare::ParamDefault;
+    match default {
+        ParamDefault::Required => "required".to_string(),
+        ParamDefault::Derived => "derived".to_string(),
+        ParamDefault::Number(v) => format!("{v}"),
+        ParamDefault::Text(s) => format!("\"{s}\""),
+    }
+}
+
 pub fn run(args: EnginesArgs) -> anyhow::Result<()> {
     if args.markdown {
         out!("{}", markdown());
@@ -44,14 +56,23 @@ pub fn run(args: EnginesArgs) -> anyhow::Result<()> {
     for e in registry::ENGINES {
         outln!("{}: {}", e.name, e.title);
         outln!("  run length: {}", e.clock_names());
+        outln!(
+            "  {:<22} {:<7} {:<9} {:<10} allowed",
+            "key",
+            "symbol",
+            "unit",
+            "default"
+        );
         for d in e.params {
             outln!(
-                "  {:<24} {:<8} {}  ({})",
+                "  {:<22} {:<7} {:<9} {:<10} {}",
                 d.name,
                 d.symbol,
-                d.doc,
+                d.unit,
+                default_text(&d.default),
                 d.allowed
             );
+            outln!("  {:<22} {}", "", d.doc);
         }
         outln!(
             "  counters: {}",

@@ -274,9 +274,14 @@ fn jobs_table(h: &mut String, sweep: &Sweep, views: &[JobView]) {
     }
     h.push_str("<th>state</th><th>progress</th><th>label</th>");
     for (column, heading) in keys {
+        // the unit under the heading, as results/README.md documents the column
+        let unit = crate::sweep::tables::column_docs::unit_for("jobs", engine.name, column)
+            .map_or(String::new(), |u| {
+                format!("<br><small>{}</small>", escape(&u))
+            });
         let _ = write!(
             h,
-            "<th title=\"{}\">{}</th>",
+            "<th title=\"{}\">{}{unit}</th>",
             escape(column),
             escape(heading)
         );
@@ -340,6 +345,28 @@ fn jobs_table(h: &mut String, sweep: &Sweep, views: &[JobView]) {
         );
     }
     h.push_str("</tbody>\n</table>\n</section>\n");
+}
+
+/// Analysis settings as a reader writes them in a sweep file: `grid = [12, 12, 12],
+/// profile_bins = 25`, unset ones "automatic" (None without settings).
+fn settings_text(settings: &serde_json::Value) -> Option<String> {
+    let plain = |v: &serde_json::Value| match v {
+        serde_json::Value::String(s) => s.clone(),
+        // a setting left to the analysis (e.g. the grid, from the box)
+        serde_json::Value::Null => "automatic".to_string(),
+        other => other.to_string(),
+    };
+    match settings {
+        serde_json::Value::Null => None,
+        serde_json::Value::Object(m) if m.is_empty() => None,
+        serde_json::Value::Object(m) => Some(
+            m.iter()
+                .map(|(k, v)| format!("{k} = {}", plain(v)))
+                .collect::<Vec<_>>()
+                .join(", "),
+        ),
+        other => Some(plain(other)),
+    }
 }
 
 /// A two-column table of (name, value) rows.
@@ -436,8 +463,8 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
             ))
         ),
     ));
-    if !job.params.analysis.is_null() {
-        rows.push(("analysis settings".into(), job.params.analysis.to_string()));
+    if let Some(settings) = settings_text(&job.params.analysis) {
+        rows.push(("analysis settings".into(), settings));
     }
     pairs_table(h, &rows);
     // provenance

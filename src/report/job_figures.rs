@@ -116,9 +116,9 @@ struct MapPanel {
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
 
 /// The heading of a job's figures: its engine, seed and id; its parameters by symbol (those
-/// the engine requires or derives, and those away from their defaults); then those at their
-/// defaults, named as such (a swept parameter may sit at its default: its value is shown
-/// either way).
+/// its sweep varies, those the engine requires or derives, and those away from their
+/// defaults); then those at their defaults, named as such (a swept parameter whose value is
+/// its default is not: it was chosen).
 pub fn heading(job: &PlannedJob) -> Heading {
     let def = job.params.def();
     let (mut set, mut defaults): (Vec<String>, Vec<String>) = (Vec::new(), Vec::new());
@@ -127,7 +127,7 @@ pub fn heading(job: &PlannedJob) -> Heading {
             continue;
         };
         let text = format!("{} = {}", symbol_of(def, d.name), heading_value(v));
-        if d.default.value().as_ref() == Some(v) {
+        if d.default.value().as_ref() == Some(v) && !job.swept.contains(&d.name) {
             defaults.push(text);
         } else {
             set.push(text);

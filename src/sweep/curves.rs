@@ -303,20 +303,37 @@ impl CurvePlot {
     /// curve's minimum.
     pub fn table(&self) -> String {
         let mut out = String::new();
+        // an error column only where the column has errors (its `_error` twin)
+        let errors = self
+            .series
+            .iter()
+            .flat_map(|s| &s.points)
+            .any(|p| p.error.is_finite());
         for s in &self.series {
             if let Some(by) = &self.by {
                 out.push_str(&format!("{by} = {}\n", s.name));
             }
-            out.push_str(&format!(
-                "  {:>12}  {:>14}  {:>12}  jobs\n",
-                self.x, self.y, "error"
-            ));
+            out.push_str(&format!("  {:>12}  {:>14}", self.x, self.y));
+            if errors {
+                out.push_str(&format!("  {:>12}", "error"));
+            }
+            out.push_str("  jobs\n");
             for p in &s.points {
                 out.push_str(&format!(
-                    "  {:>12}  {:>14.6}  {:>12.3e}  {}{}{}\n",
+                    "  {:>12}  {:>14.6}",
                     fmt_value(&ParamValue::Number(p.x)),
-                    p.y,
-                    p.error,
+                    p.y
+                ));
+                if errors {
+                    let e = if p.error.is_finite() {
+                        format!("{:.3e}", p.error)
+                    } else {
+                        "-".into()
+                    };
+                    out.push_str(&format!("  {e:>12}"));
+                }
+                out.push_str(&format!(
+                    "  {}{}{}\n",
                     p.jobs,
                     if p.valid {
                         ""
@@ -330,21 +347,25 @@ impl CurvePlot {
                     }
                 ));
             }
+            // the lowest point, and whether it is a dip: below points on both sides beyond
+            // twice their errors (the rule of [`minimum`])
             match minimum(&s.points, self.log_x) {
-                Some(m) if m.interior => out.push_str(&format!(
-                    "  interior minimum at {} = {} ({} = {:.6}){}\n",
+                Some(m) => out.push_str(&format!(
+                    "  lowest at {} = {} ({} = {:.6}){}\n",
                     self.x,
                     fmt_value(&ParamValue::Number(m.at)),
                     self.y,
                     m.value,
-                    m.vertex
-                        .map(|v| format!(", parabola vertex {v:.3}"))
-                        .unwrap_or_default()
-                )),
-                Some(m) => out.push_str(&format!(
-                    "  no interior minimum (smallest at {} = {})\n",
-                    self.x,
-                    fmt_value(&ParamValue::Number(m.at))
+                    if m.interior {
+                        format!(
+                            ": a dip, below points on both sides{}",
+                            m.vertex
+                                .map(|v| format!(" (parabola vertex at {v:.3})"))
+                                .unwrap_or_default()
+                        )
+                    } else {
+                        String::new()
+                    }
                 )),
                 None => out.push_str("  no valid points\n"),
             }

@@ -333,8 +333,8 @@ fn log_ticks_of_a_decade_axis_are_the_expected_labels() {
 }
 
 /// The per-job figures of a job are headed by its engine, seed, id and every parameter by
-/// symbol with its value, those at their defaults on a line that says so, in the files a job
-/// writes.
+/// symbol with its value, those at their defaults on a line that says so (swept ones never),
+/// in the files a job writes.
 #[test]
 fn per_job_figures_are_headed_by_the_parameters() {
     let dir = scratch("figures-heading");
@@ -391,6 +391,12 @@ fn per_job_figures_are_headed_by_the_parameters() {
             "{lines:?}"
         );
         assert!(!rest.contains("L = "), "{lines:?}");
+        // issue 49: rho and p are swept ([1.0, 1.2], [0.1, 0.5]): chosen, never "at their
+        // defaults" (1 and 0.5 are their defaults)
+        assert!(
+            !rest.contains("rho = ") && !rest.contains("p = "),
+            "{lines:?}"
+        );
     }
 }
 

@@ -20,6 +20,7 @@ const SWEEP: &str = r#"(
     fixed: (width_over_diameter: 6.0, height_over_diameter: 6.0, volume_fraction: 0.15),
     axes: (length_over_width: [1.0, 2.0], restitution: [0.7, 0.9]),
     run: (collisions_per_particle: 1500.0, snapshot_interval: 100.0, checkpoint_every: 1),
+    analysis: (profile_bins: 12),
 )"#;
 
 /// Chromium without anything that reaches out (no sync, updates, background networking, QUIC)
@@ -209,6 +210,26 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
         }
     }
     assert!(html.contains("the analysis below is of the records so far, not a result"));
+    // issue 49: the table's headings carry their units; the analysis settings read as a sweep
+    // file writes them, not as escaped JSON
+    for heading in [
+        "u_slip<br><small>sqrt(g d)</small>",
+        "E_tr/N<br><small>m g d</small>",
+        "window from<br><small>collisions per particle</small>",
+    ] {
+        assert!(html.contains(heading), "no heading {heading}");
+    }
+    let settings = html
+        .split("analysis settings</th><td>")
+        .nth(1)
+        .and_then(|rest| rest.split("</td>").next())
+        .expect("analysis settings");
+    assert!(settings.contains("profile_bins = 12"), "{settings}");
+    assert!(!settings.contains("null"), "{settings}");
+    assert!(
+        !html.contains("&quot;profile_bins"),
+        "analysis settings as JSON"
+    );
     // the files are exactly what the job module draws from the stored result and records
     let done_dir = dirs.job_dir(&sweep.plan[0].id);
     let result = store::read_result(&done_dir).unwrap();

@@ -37,7 +37,7 @@ fn where_selects_jobs_and_status_speaks_json() {
     // selection's
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
-        stdout.contains("tables: 4 jobs of the sweep (2 done)"),
+        stdout.contains("tables of the whole sweep: 4 jobs, 2 done in"),
         "{stdout}"
     );
     let jobs_table = std::fs::File::open(results.join("w").join("jobs.parquet")).unwrap();
@@ -100,6 +100,46 @@ fn where_selects_jobs_and_status_speaks_json() {
     let out = granflow(&["phase-diagram", f, "--results", r, "--x", "roughness"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("does not vary"));
+    // issue 49: `gather --where` writes the selection's tables apart and leaves the sweep's
+    // own jobs.parquet whole (it used to overwrite it with the selected rows alone)
+    let out = granflow(&["gather", f, "--results", r, "--where", "restitution=0.9"]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{said}");
+    let rows = |path: &Path| {
+        use polars::prelude::SerReader;
+        polars::prelude::ParquetReader::new(std::fs::File::open(path).unwrap())
+            .with_columns(Some(vec!["job_id".into()]))
+            .finish()
+            .unwrap()
+            .height()
+    };
+    let selection = results
+        .join("w")
+        .join("where")
+        .join("restitution=0.9")
+        .join("jobs.parquet");
+    assert!(said.contains("where/restitution=0.9"), "{said}");
+    assert_eq!(rows(&results.join("w").join("jobs.parquet")), 4);
+    assert_eq!(rows(&selection), 2);
+    // a plot of a column without errors: no error column of NaN, no Knudsen-minimum wording
+    let out = granflow(&[
+        "plot",
+        f,
+        "--results",
+        r,
+        "--x",
+        "length_over_width",
+        "--y",
+        "slip_velocity",
+        "--where",
+        "restitution=0.9",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("slip_velocity  jobs"), "{text}");
+    for unwanted in ["NaN", "error", "interior minimum"] {
+        assert!(!text.contains(unwanted), "`{unwanted}` in {text}");
+    }
 }
 
 /// A run without a terminal (piped, as in a Slurm log) prints a plain progress line per
@@ -587,4 +627,44 @@ fn version_names_the_commit_built() {
         version.starts_with(&format!("granflow {} ({head}", env!("CARGO_PKG_VERSION"))),
         "{version} does not name HEAD {head}"
     );
+}
+
+/// Issue 49: `granflow engines` (without --markdown) lists every parameter with its symbol,
+/// unit, default and allowed values, as README says.
+#[test]
+fn engines_lists_unit_default_and_range() {
+    use granflow::engine::declare::ParamDefault;
+    let out = granflow(&["engines"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("key") && text.contains("unit") && text.contains("default"));
+    for engine in granflow::engine::registry::ENGINES {
+        for d in engine.params {
+            let default = match d.default {
+                ParamDefault::Required => "required".to_string(),
+                ParamDefault::Derived => "derived".to_string(),
+                ParamDefault::Number(v) => format!("{v}"),
+                ParamDefault::Text(s) => format!("\"{s}\""),
+            };
+            let section = text
+                .split(&format!("\n{}: ", engine.name))
+                .nth(1)
+                .or_else(|| text.strip_prefix(&format!("{}: ", engine.name)))
+                .unwrap_or_else(|| panic!("{} not listed", engine.name));
+            let line = section
+                .lines()
+                .take_while(|l| l.starts_with(' ') || !l.contains(": "))
+                .find(|l| l.split_whitespace().next() == Some(d.name))
+                .unwrap_or_else(|| panic!("{}: {} not listed", engine.name, d.name));
+            // name, symbol, unit, default in this order, then the allowed values
+            let mut at = line.find(d.name).unwrap() + d.name.len();
+            for part in [d.symbol, d.unit, default.as_str()] {
+                let found = line[at..].find(&format!(" {part} ")).unwrap_or_else(|| {
+                    panic!("{}: `{part}` not in its place: {line}", engine.name)
+                });
+                at += found + part.len() + 1;
+            }
+            assert!(line.ends_with(d.allowed), "{line}");
+        }
+    }
 }

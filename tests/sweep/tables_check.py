@@ -96,6 +96,15 @@ for state in ["none", "some", "all"]:
             assert meta.get(b"unit", b"").decode() == unit, f"{where}: {column} unit {meta}"
         provenance = pq.ParquetFile(path).metadata.metadata
         assert provenance[b"granflow.engine"].decode() == engine, where
+        # the same provenance in the Arrow schema, where readers of tables look (issue 49)
+        for arrow_meta in [schema.metadata, pq.read_table(path).schema.metadata]:
+            assert arrow_meta is not None, f"{where}: no Arrow schema metadata"
+            for key in [b"granflow.engine", b"granflow.version", b"granflow.commit", b"granflow.sweep_ron"]:
+                assert arrow_meta.get(key) == provenance[key], f"{where}: {key} in the Arrow schema"
+        kv = dict(con.execute(
+            f"SELECT decode(key), decode(value) FROM parquet_kv_metadata('{path}')"
+        ).fetchall())
+        assert kv["granflow.engine"] == engine, f"{where}: DuckDB reads {sorted(kv)}"
         # DuckDB: the types the declaration gives, and arithmetic on every integer
         described = con.execute(f"DESCRIBE SELECT * FROM read_parquet('{path}')").fetchall()
         duck = [[row[0], row[1].replace('"', "")] for row in described]

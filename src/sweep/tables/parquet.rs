@@ -1,6 +1,7 @@
 //! One table to one Parquet file: typed columns filled cell by cell (NaN and cells of another
 //! type become null), their Arrow arrays and the file, written through polars' Arrow and
-//! Parquet crates with zstd, key-value metadata, and each field's `unit` and `description` as
+//! Parquet crates with zstd, the table's metadata (provenance) both as Parquet key-value
+//! metadata and as the Arrow schema's metadata, and each field's `unit` and `description` as
 //! field metadata.
 //!
 //! Not through polars' `DataFrame` writer: that one always writes strings as Arrow
@@ -16,7 +17,7 @@ use polars_arrow::offset::Offsets;
 use polars_arrow::record_batch::RecordBatchT;
 use polars_parquet::write::{
     CompressionOptions, FileWriter, KeyValue, RowGroupIterator, StatisticsOptions, Version,
-    WriteOptions, get_dtype_encoding, schema_to_metadata_key,
+    WriteOptions, get_dtype_encoding,
 };
 use std::path::Path;
 use std::sync::Arc;
@@ -299,7 +300,7 @@ pub fn write(
             ..Field::new(f.name.clone(), read_type(&f.dtype), true)
         })
         .collect();
-    let mut key_values = vec![schema_to_metadata_key(&read_as)];
+    let mut key_values = vec![arrow_schema_key(&read_as, metadata)];
     key_values.extend(metadata.iter().map(|(key, value)| KeyValue {
         key: key.clone(),
         value: Some(value.clone()),
@@ -312,6 +313,34 @@ pub fn write(
     });
     written.map_err(|e| crate::sweep::fs_error::PathError::new(path, e))?;
     Ok(())
+}
+
+/// The `ARROW:schema` key-value of a Parquet file: the Arrow schema (IPC, base64) that Arrow
+/// readers take the file's schema from, with `metadata` as the schema's own metadata, where
+/// `pyarrow.parquet.read_schema(p).metadata`, `read_table(p).schema.metadata` and polars'
+/// readers find it (the Parquet key-value metadata alone is seen only by Parquet-level
+/// readers). As polars-parquet's `schema_to_metadata_key`, which has no schema metadata.
+fn arrow_schema_key(schema: &ArrowSchema, metadata: &[(String, String)]) -> KeyValue {
+    use base64::Engine as _;
+    use polars_arrow::io::ipc::write::{default_ipc_fields, schema_to_bytes};
+    let custom: polars_arrow::datatypes::Metadata = metadata
+        .iter()
+        .map(|(k, v)| (k.as_str().into(), v.as_str().into()))
+        .collect();
+    let ipc = schema_to_bytes(
+        schema,
+        &default_ipc_fields(schema.iter_values()),
+        Some(&custom),
+    );
+    // the legacy IPC framing Arrow readers expect: continuation marker, length, message
+    let mut framed = Vec::with_capacity(ipc.len() + 8);
+    framed.extend_from_slice(&[255u8, 255, 255, 255]);
+    framed.extend_from_slice(&(ipc.len() as u32).to_le_bytes());
+    framed.extend_from_slice(&ipc);
+    KeyValue {
+        key: "ARROW:schema".into(),
+        value: Some(base64::engine::general_purpose::STANDARD.encode(&framed)),
+    }
 }
 
 #[cfg(test)]
