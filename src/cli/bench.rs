@@ -172,32 +172,52 @@ struct DsmcWorkload {
 }
 
 /// The case the issue measured SPARTA on: 6000 simulators, 200 cells, dt = 0.1 tau_c, e_n = 1,
-/// thermal walls, a-hat = 0.5; at Kn = 0.1 and 1, sampled every step or not at all.
+/// thermal walls, a-hat = 0.5; at Kn = 0.1 and 1, sampled every step or not at all. And the
+/// same on the grid a SPARTA user would choose, about 3 cells per mean free path (30 cells at
+/// Kn = 0.1, 3 at Kn = 1; `-3mfp` in the name): 200 cells are 20 and 200 per mean free path,
+/// which SPARTA's regular mover pays for in cell crossings (bench/peers/README.md).
 fn dsmc_workloads() -> Vec<DsmcWorkload> {
-    let case = |kn: f64, sample_every: u64| DsmcParams {
+    let case = |kn: f64, cells: usize, sample_every: u64| DsmcParams {
         knudsen_number: kn,
-        cells: 200,
-        particles_per_cell: 30.0,
+        cells,
+        particles_per_cell: 6000.0 / cells as f64,
         time_step: 0.1,
         sample_every,
         ..DsmcParams::default()
     };
+    let (sampled, unsampled) = (1, u64::MAX / 2);
     vec![
         DsmcWorkload {
             name: "dsmc-kn0.1-6000-sampled",
-            params: case(0.1, 1),
+            params: case(0.1, 200, sampled),
         },
         DsmcWorkload {
             name: "dsmc-kn0.1-6000-unsampled",
-            params: case(0.1, u64::MAX / 2),
+            params: case(0.1, 200, unsampled),
         },
         DsmcWorkload {
             name: "dsmc-kn1-6000-sampled",
-            params: case(1.0, 1),
+            params: case(1.0, 200, sampled),
         },
         DsmcWorkload {
             name: "dsmc-kn1-6000-unsampled",
-            params: case(1.0, u64::MAX / 2),
+            params: case(1.0, 200, unsampled),
+        },
+        DsmcWorkload {
+            name: "dsmc-kn0.1-6000-3mfp-sampled",
+            params: case(0.1, 30, sampled),
+        },
+        DsmcWorkload {
+            name: "dsmc-kn0.1-6000-3mfp-unsampled",
+            params: case(0.1, 30, unsampled),
+        },
+        DsmcWorkload {
+            name: "dsmc-kn1-6000-3mfp-sampled",
+            params: case(1.0, 3, sampled),
+        },
+        DsmcWorkload {
+            name: "dsmc-kn1-6000-3mfp-unsampled",
+            params: case(1.0, 3, unsampled),
         },
     ]
 }

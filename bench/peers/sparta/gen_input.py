@@ -7,8 +7,8 @@ The case is the one `dsmc_workloads()` in src/cli/bench.rs defines (the paramete
 below, CASE; change both together): the thesis channel for a molecular gas between two diffuse
 walls at T_w, forced along x, at Kn = 0.1 and Kn = 1, 6000 simulators in 200 layer cells,
 dt = 0.1 mean collision times, 500 warm-up steps then 10 000 timed steps, sampled every step or
-not at all. For each Kn and sampling this writes `in.kn{KN}-{sampled,unsampled}` (the regular
-mover) and the same with `-optmove` (SPARTA's optimised mover), plus `gas.species` and
+not at all; on that grid and on one of about 3 cells per mean free path (`-3mfp`). For each Kn,
+grid and sampling this writes `in.kn{KN}[-3mfp]-{sampled,unsampled}` (the regular mover) and the same with `-optmove` (SPARTA's optimised mover), plus `gas.species` and
 `gas.vss`; `in.kn{KN}-check` adds the mass-weighted mean velocity over the second half of the
 run (run.py --check compares it with granflow's).
 
@@ -32,6 +32,10 @@ CASE = {
     "timed_moves": 6e7,  # `granflow bench --moves 6e7`: ceil(6e7 / 6000) = 10 000 steps
 }
 KNUDSEN = {"0.1": 0.1, "1": 1.0}
+# The grids: granflow's 200 layer cells (20 and 200 cells per mean free path at Kn = 0.1 and 1),
+# and the grid a SPARTA user would choose, about 3 cells per mean free path (`-3mfp` in the
+# names: 30 and 3 cells; granflow's workloads `dsmc-kn{KN}-6000-3mfp-*`). Same 6000 simulators.
+GRIDS = {"": lambda kn: CASE["cells"], "-3mfp": lambda kn: round(3.0 / kn)}
 
 # SI values of the physical gas (any values give the same dimensionless case)
 PHYS = {
@@ -101,15 +105,16 @@ G {diameter:.6e} 0.5 {T_w} 1.0
 """
 
 
-def sparta_input(kn_name, sampled, optmove, check=False):
+def sparta_input(kn_name, sampled, optmove, check=False, grid=""):
     """The text of one SPARTA input."""
     kn = KNUDSEN[kn_name]
     p = derived(kn)
+    cells = GRIDS[grid](kn)
     warm, timed = CASE["warmup_steps"], p["timed_steps"]
     total = warm + timed
     lines = [
         f"# granflow DSMC benchmark case at Kn = {kn_name}: written by bench/peers/sparta/gen_input.py",
-        f"# {p['n_sim']} simulators, {CASE['cells']} layer cells, dt = {CASE['time_step']} tau_c, "
+        f"# {p['n_sim']} simulators, {cells} layer cells, dt = {CASE['time_step']} tau_c, "
         f"a-hat = {CASE['forcing']}, diffuse walls at T_w, e_n = 1 (SPARTA has no restitution)",
         f"# sampling: {'13 cell quantities every step' if sampled else 'none'}; "
         f"mover: {'optmove' if optmove else 'regular'}",
@@ -126,7 +131,7 @@ def sparta_input(kn_name, sampled, optmove, check=False):
         # x, z periodic; the two y faces are surfaces: diffuse walls at T_w, full accommodation
         "boundary p s p",
         f"create_box 0 {p['lx']:.10e} 0 {PHYS['W']:.10e} 0 {p['lz']:.10e}",
-        f"create_grid 1 {CASE['cells']} 1",
+        f"create_grid 1 {cells} 1",
         f"surf_collide wall diffuse {PHYS['T_w']} 1.0",
         "bound_modify ylo yhi collide wall",
         "species gas.species G",
@@ -169,12 +174,13 @@ def write_all(directory):
     (directory / "gas.vss").write_text(VSS.format(**PHYS))
     names = []
     for kn in KNUDSEN:
-        for sampled in (False, True):
-            for optmove in (False, True):
-                name = f"in.kn{kn}-{'sampled' if sampled else 'unsampled'}"
-                name += "-optmove" if optmove else ""
-                (directory / name).write_text(sparta_input(kn, sampled, optmove))
-                names.append(name)
+        for grid in GRIDS:
+            for sampled in (False, True):
+                for optmove in (False, True):
+                    name = f"in.kn{kn}{grid}-{'sampled' if sampled else 'unsampled'}"
+                    name += "-optmove" if optmove else ""
+                    (directory / name).write_text(sparta_input(kn, sampled, optmove, grid=grid))
+                    names.append(name)
         (directory / f"in.kn{kn}-check").write_text(sparta_input(kn, False, True, check=True))
     return names
 

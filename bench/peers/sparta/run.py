@@ -4,9 +4,10 @@
     python3 bench/peers/sparta/run.py --spa PATH/spa_serial [--rounds N] [--json FILE]
     python3 bench/peers/sparta/run.py --spa PATH/spa_serial --check   # same physics?
 
-Each round runs, one process at a time and for each case (Kn = 0.1 and 1, sampled and not):
+Each round runs, one process at a time and for each case (Kn = 0.1 and 1, on granflow's 200-cell
+grid and on one of about 3 cells per mean free path, `-3mfp`, sampled and not):
 SPARTA with its regular mover, SPARTA with `global optmove yes` (if the binary knows it), and
-`granflow bench --json --workload dsmc-kn{KN}-6000-{sampled,unsampled} --moves 6e7`. The SPARTA
+`granflow bench --json --workload dsmc-kn{KN}-6000[-3mfp]-{sampled,unsampled} --moves 6e7`. The SPARTA
 inputs are written by gen_input.py (same directory) into a temporary directory.
 
 Method: each process's CPU time (user + sys, from getrusage(RUSAGE_CHILDREN) deltas around
@@ -41,7 +42,7 @@ sys.dont_write_bytecode = True  # keep the tree clean
 sys.path.insert(0, str(HERE))
 import gen_input  # noqa: E402
 
-CASES = [(kn, s) for kn in gen_input.KNUDSEN for s in ("unsampled", "sampled")]
+CASES = [(kn, g, s) for g in gen_input.GRIDS for kn in gen_input.KNUDSEN for s in ("unsampled", "sampled")]
 
 
 def timed(cmd, cwd=None):
@@ -73,9 +74,9 @@ def run_sparta(spa, directory, name):
             "collisions_per_move": c1 / m1, "timed_moves_per_loop_s": m1 / loop}
 
 
-def run_granflow(binary, kn, sampling):
+def run_granflow(binary, kn, grid, sampling):
     """One `granflow bench` run of the same case, measured as run_sparta does."""
-    workload = f"dsmc-kn{kn}-6000-{sampling}"
+    workload = f"dsmc-kn{kn}-6000{grid}-{sampling}"
     moves = gen_input.CASE["timed_moves"]
     text, cpu = timed([binary, "bench", "--json", "--workload", workload, "--moves", f"{moves:g}"])
     rows = [r for r in json.loads(text) if r["workload"] == workload]
@@ -113,9 +114,11 @@ def table(results, sides):
     head += [f"granflow / {names[s]}" for s in sides if s != "gf"]
     head += ["rounds ahead", "collisions per move (" + ", ".join(names[s] for s in sides) + ")"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    for (kn, sampling), rounds in results.items():
+    for (kn, grid, sampling), rounds in results.items():
         rate = {s: [r[s]["moves_per_cpu_s"] for r in rounds] for s in sides}
-        row = [f"Kn = {kn}, {'13 quantities sampled every step' if sampling == 'sampled' else 'no sampling'}"]
+        cells = gen_input.GRIDS[grid](gen_input.KNUDSEN[kn])
+        row = [f"Kn = {kn}, {cells} cells, "
+               f"{'13 quantities sampled every step' if sampling == 'sampled' else 'no sampling'}"]
         row += [column(rate[s]) for s in sides]
         ahead = []
         for s in sides:
@@ -172,7 +175,7 @@ def main():
                        "unless it is there already")
     ap.add_argument("--granflow", default=str(ROOT / "target/release/granflow"))
     ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--case", action="append", help="only this case, e.g. kn1-sampled (repeatable)")
+    ap.add_argument("--case", action="append", help="only this case, e.g. kn1-sampled or kn1-3mfp-sampled (repeatable)")
     ap.add_argument("--no-optmove", action="store_true", help="skip SPARTA's optmove runs")
     ap.add_argument("--json", help="write every round to this file")
     ap.add_argument("--check", action="store_true", help="compare the mean velocities instead")
@@ -184,24 +187,24 @@ def main():
             check(spa, args.granflow, directory)
             return
         sides = ["spa"] + (["opt"] if not args.no_optmove and has_optmove(spa, directory) else []) + ["gf"]
-        cases = [c for c in CASES if not args.case or f"kn{c[0]}-{c[1]}" in args.case]
+        cases = [c for c in CASES if not args.case or f"kn{c[0]}{c[1]}-{c[2]}" in args.case]
         results = {c: [] for c in cases}
         for i in range(args.rounds):
-            for kn, sampling in cases:
+            for kn, grid, sampling in cases:
                 r = {}
                 for s in sides:
                     if s == "gf":
-                        r[s] = run_granflow(args.granflow, kn, sampling)
+                        r[s] = run_granflow(args.granflow, kn, grid, sampling)
                     else:
-                        name = f"in.kn{kn}-{sampling}" + ("-optmove" if s == "opt" else "")
+                        name = f"in.kn{kn}{grid}-{sampling}" + ("-optmove" if s == "opt" else "")
                         r[s] = run_sparta(spa, directory, name)
-                    print(f"round {i + 1}/{args.rounds} kn{kn}-{sampling} {s}: "
+                    print(f"round {i + 1}/{args.rounds} kn{kn}{grid}-{sampling} {s}: "
                           f"{fmt(r[s]['moves_per_cpu_s'])} moves/CPU-s, "
                           f"{r[s]['collisions_per_move']:.4f} collisions/move", file=sys.stderr, flush=True)
-                results[(kn, sampling)].append(r)
+                results[(kn, grid, sampling)].append(r)
     if args.json:
         Path(args.json).write_text(json.dumps(
-            [{"case": f"kn{kn}-{s}", "rounds": rounds} for (kn, s), rounds in results.items()], indent=1))
+            [{"case": f"kn{kn}{g}-{s}", "rounds": rounds} for (kn, g, s), rounds in results.items()], indent=1))
     print(f"{args.rounds} interleaved rounds; moves per process CPU second (user + sys), "
           "warm-up included; median (range)\n")
     print(table(results, sides))
