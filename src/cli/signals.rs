@@ -72,9 +72,13 @@ fn stop_message(name: &str, at: running::AtStop, resume: &str) -> String {
         ),
     };
     match (resumed.is_empty(), kept.is_empty()) {
+        (true, true) if !at.started_any => format!(
+            "granflow: stopped by signal {name} before this run started a job (what earlier \
+             runs did is untouched): run again with: {resume}"
+        ),
         (true, true) => format!(
-            "granflow: stopped by signal {name} before any job had started or was done \
-             (nothing to keep): run again with: {resume}"
+            "granflow: stopped by signal {name} while no job was running and none was done: \
+             run again with: {resume}"
         ),
         (true, false) => format!(
             "granflow: stopped by signal {name} while no job was running; {kept}: resume with: \
@@ -165,9 +169,13 @@ mod tests {
 
     #[test]
     fn the_stop_line_says_only_what_is_true() {
-        let at = |running, done| running::AtStop { running, done };
+        let at = |running, done| running::AtStop {
+            running,
+            done,
+            started_any: running > 0 || done > 0,
+        };
         let none = stop_message("SIGTERM", at(0, 0), "granflow run x.ron");
-        assert!(none.contains("before any job had started"), "{none}");
+        assert!(none.contains("before this run started a job"), "{none}");
         assert!(!none.contains("kept:"), "{none}");
         let idle = stop_message("SIGINT", at(0, 3), "granflow run x.ron");
         assert!(idle.contains("the 3 done jobs are kept"), "{idle}");

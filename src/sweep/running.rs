@@ -11,11 +11,14 @@ struct State {
     running: BTreeSet<PathBuf>,
     /// jobs of the sweep with a result (before this run and by it)
     done: usize,
+    /// whether this process has started a job
+    started_any: bool,
 }
 
 static STATE: Mutex<State> = Mutex::new(State {
     running: BTreeSet::new(),
     done: 0,
+    started_any: false,
 });
 
 fn state() -> std::sync::MutexGuard<'static, State> {
@@ -34,7 +37,9 @@ pub fn add_done() {
 
 /// This process claimed the job in `dir` and runs it.
 pub fn started(dir: &Path) {
-    state().running.insert(dir.to_path_buf());
+    let mut state = state();
+    state.running.insert(dir.to_path_buf());
+    state.started_any = true;
 }
 
 /// The job in `dir` is no longer this process's (its outcome is written, or it was given up).
@@ -47,6 +52,8 @@ pub fn ended(dir: &Path) {
 pub struct AtStop {
     pub running: usize,
     pub done: usize,
+    /// whether this process had started a job
+    pub started_any: bool,
 }
 
 /// Write `event` into the log of every running job (a job whose log cannot be written is
@@ -60,5 +67,6 @@ pub fn log_stop(event: &str) -> AtStop {
     AtStop {
         running: state.running.len(),
         done: state.done,
+        started_any: state.started_any,
     }
 }

@@ -133,24 +133,16 @@ fn a_full_stdout_is_an_error_not_a_panic() {
     let tables = results.join("ok");
     let t = tables.to_str().unwrap();
     assert!(tables.join("jobs.parquet").exists(), "run: {text}");
-    let subcommands = [
-        "sim",
-        "engines",
-        "bench",
-        "run",
-        "plan",
-        "status",
-        "gather",
-        "phase-diagram",
-        "plot",
-        "lammps",
-        "lammps-import",
-        "report",
-        "slurm",
-        "completions",
-    ];
+    // every subcommand clap knows, so that a new one is covered too
+    let command = <granflow::cli::Cli as clap::CommandFactory>::command();
+    let subcommands: Vec<String> = command
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .filter(|name| name != "help")
+        .collect();
+    assert!(subcommands.len() >= 14, "{subcommands:?}");
     let mut cases: Vec<Vec<&str>> = vec![vec!["--help"], vec!["--version"]];
-    cases.extend(subcommands.iter().map(|c| vec![*c, "--help"]));
+    cases.extend(subcommands.iter().map(|c| vec![c.as_str(), "--help"]));
     cases.extend([
         vec!["completions", "bash"],
         vec!["engines"],
@@ -235,26 +227,25 @@ fn resource_errors_anywhere_exit_75_with_the_path() {
     assert!(text.contains(".png") || text.contains(".svg"), "{text}");
 }
 
+/// Mount a tmpfs of `size` at `mount` (created); false where this machine does not let a test
+/// mount one (it needs root in a container that allows it).
+fn mount_tmpfs(mount: &Path, size: &str) -> bool {
+    std::fs::create_dir_all(mount).unwrap();
+    Command::new("mount")
+        .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+        .arg(mount)
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
 /// Where this machine lets a test mount a tiny tmpfs (root in a container that allows it), a
 /// really full disk: "no space left" and the path, exit 75.
 #[test]
 fn a_really_full_disk_says_no_space_left() {
     let dir = scratch("tmpfs");
     let mount = dir.join("tiny");
-    std::fs::create_dir_all(&mount).unwrap();
-    let mounted = Command::new("mount")
-        .args([
-            "-t",
-            "tmpfs",
-            "-o",
-            "size=48k",
-            "tmpfs",
-            mount.to_str().unwrap(),
-        ])
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if !mounted {
+    if !mount_tmpfs(&mount, "48k") {
         eprintln!("no tmpfs could be mounted here: the file-size limit tests cover exit 75");
         return;
     }
@@ -533,20 +524,7 @@ fn huge_values_repeated_overrides_and_negative_zero() {
 fn a_read_only_results_directory_exits_75_everywhere() {
     let dir = scratch("read-only");
     let mount = dir.join("ro");
-    std::fs::create_dir_all(&mount).unwrap();
-    let mounted = Command::new("mount")
-        .args([
-            "-t",
-            "tmpfs",
-            "-o",
-            "size=16m",
-            "tmpfs",
-            mount.to_str().unwrap(),
-        ])
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if !mounted {
+    if !mount_tmpfs(&mount, "16m") {
         eprintln!("no tmpfs could be mounted here: the read-only case is not tested");
         return;
     }
