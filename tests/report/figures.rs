@@ -391,7 +391,7 @@ fn per_job_figures_are_headed_by_the_parameters() {
             "{lines:?}"
         );
         assert!(!rest.contains("L = "), "{lines:?}");
-        // issue 49: rho and p are swept ([1.0, 1.2], [0.1, 0.5]): chosen, never "at their
+        // rho and p are swept ([1.0, 1.2], [0.1, 0.5]): chosen, never "at their
         // defaults" (1 and 0.5 are their defaults)
         assert!(
             !rest.contains("rho = ") && !rest.contains("p = "),

@@ -210,7 +210,7 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
         }
     }
     assert!(html.contains("the analysis below is of the records so far, not a result"));
-    // issue 49: the table's headings carry their units; the analysis settings read as a sweep
+    // The table's headings carry their units; the analysis settings read as a sweep
     // file writes them, not as escaped JSON
     for heading in [
         "u_slip<br><small>sqrt(g d)</small>",

@@ -100,7 +100,7 @@ fn where_selects_jobs_and_status_speaks_json() {
     let out = granflow(&["phase-diagram", f, "--results", r, "--x", "roughness"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("does not vary"));
-    // issue 49: `gather --where` writes the selection's tables apart and leaves the sweep's
+    // `gather --where` writes the selection's tables apart and leaves the sweep's
     // own jobs.parquet whole (it used to overwrite it with the selected rows alone)
     let out = granflow(&["gather", f, "--results", r, "--where", "restitution=0.9"]);
     let said = String::from_utf8_lossy(&out.stdout);
@@ -629,7 +629,7 @@ fn version_names_the_commit_built() {
     );
 }
 
-/// Issue 49: `granflow engines` (without --markdown) lists every parameter with its symbol,
+/// `granflow engines` (without --markdown) lists every parameter with its symbol,
 /// unit, default and allowed values, as README says.
 #[test]
 fn engines_lists_unit_default_and_range() {

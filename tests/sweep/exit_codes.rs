@@ -116,7 +116,7 @@ fn to_full_stdout(args: &[&str]) -> Output {
         .unwrap()
 }
 
-/// Issue 49: every subcommand, `--help`, `--version` and `completions` included, exits 75 when
+/// Every subcommand, `--help`, `--version` and `completions` included, exits 75 when
 /// its stdout is full, saying so, and never panics (completions panicked with exit 101,
 /// `--help` exited 0 with its text lost). `run` first finishes its jobs: its results are on
 /// disk whatever happens to its output.
@@ -305,7 +305,7 @@ fn a_stopped_run_says_how_to_resume() {
             "{name}: {text}"
         );
         assert!(text.contains("resume with:"), "{name}: {text}");
-        // issue 49: what it says is true (a job was running, none was done), and the
+        // What it says is true (a job was running, none was done), and the
         // running job's own log says it was stopped
         assert!(text.contains("the running job resumes"), "{name}: {text}");
         assert!(!text.contains("kept"), "{name}: {text}");
@@ -381,7 +381,7 @@ fn measured(kb: u32, args: &[&str]) -> (Output, f64) {
     (output, cpu(usage.ru_utime) + cpu(usage.ru_stime))
 }
 
-/// Issue 49: three 1000-value ranges make 10^9 jobs; such a grid is refused before it is
+/// Three 1000-value ranges make 10^9 jobs; such a grid is refused before it is
 /// expanded (it used to grow to gigabytes without a word), by `plan` and by `run`, naming each
 /// axis, the product and the limit. The bounds (1 CPU second, 100 MB of address space) are the
 /// issue's: a refusal costs milliseconds and the binary's own pages, expanding ~4 kB per job.
@@ -432,7 +432,7 @@ fn longest_digit_run(text: &str) -> usize {
         .unwrap_or(0)
 }
 
-/// Issue 49: values near the largest double are refused with the key and the source that set
+/// Values near the largest double are refused with the key and the source that set
 /// them (the file's line, or the --set option) in numbers a person can read; a key given twice
 /// by --set is refused naming both; -0 is the same point as 0.
 #[test]
@@ -518,7 +518,7 @@ fn huge_values_repeated_overrides_and_negative_zero() {
     assert!(said(&out).contains("duplicate value"), "{}", said(&out));
 }
 
-/// Issue 49: a read-only results directory is a resource error (exit 75, naming the path and
+/// A read-only results directory is a resource error (exit 75, naming the path and
 /// "read-only") for every command that must write there (run, gather, report); `status` only
 /// reads and reports it as it is. Where this machine lets a test mount a tmpfs read-only.
 #[test]
@@ -567,7 +567,7 @@ fn a_read_only_results_directory_exits_75_everywhere() {
     }
 }
 
-/// Issue 49: the sweep line counts jobs with a result, never a job a resource error stopped
+/// The sweep line counts jobs with a result, never a job a resource error stopped
 /// (it said "1/2 jobs done" right after the only running job was stopped). Every `sweep`
 /// line's count equals the `done` lines before it.
 #[test]

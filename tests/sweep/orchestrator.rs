@@ -614,7 +614,7 @@ fn two_runners_never_run_the_same_job() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
-    // issue 49: the final tables are never stale. Each runner gathers at its end under the
+    // The final tables are never stale. Each runner gathers at its end under the
     // gather lock from what is on disk, so the runner that ends last writes every result;
     // the tables are read back before anything else gathers
     let states = {
@@ -648,7 +648,7 @@ fn two_runners_never_run_the_same_job() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success() && text.contains("done 6"), "{text}");
     // a sweep run only with overrides: its directory has no tables of its own, and says
-    // where they are (README.txt); `status` on it points to runs/ (issue 49)
+    // where they are (README.txt); `status` on it points to runs/
     let only = dir.join("only-overrides");
     granflow_ok(&run_args(&file, &only, &["--set", "restitution=0.9"]));
     let readme = std::fs::read_to_string(only.join("proc").join("README.txt")).unwrap();

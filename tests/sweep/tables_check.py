@@ -96,7 +96,7 @@ for state in ["none", "some", "all"]:
             assert meta.get(b"unit", b"").decode() == unit, f"{where}: {column} unit {meta}"
         provenance = pq.ParquetFile(path).metadata.metadata
         assert provenance[b"granflow.engine"].decode() == engine, where
-        # the same provenance in the Arrow schema, where readers of tables look (issue 49)
+        # the same provenance in the Arrow schema, where readers of tables look
         for arrow_meta in [schema.metadata, pq.read_table(path).schema.metadata]:
             assert arrow_meta is not None, f"{where}: no Arrow schema metadata"
             for key in [b"granflow.engine", b"granflow.version", b"granflow.commit", b"granflow.sweep_ron"]:

@@ -238,7 +238,7 @@ fn an_emptied_or_foreign_params_file_is_damaged() {
         .unwrap();
         ran.detected_and_recomputed(engine, &[0, 1], &["params.json", "belongs to job"]);
         // rewritten from the plan, the damaged ones kept beside; the job stays done with the
-        // result it had, and its log gets no second (false) `done` line (issue 49)
+        // result it had, and its log gets no second (false) `done` line
         for d in &ran.jobs[..2] {
             assert!(store::read_params(d).is_ok(), "{engine}");
             let log = std::fs::read_to_string(d.join(store::LOG_FILE)).unwrap();
@@ -263,7 +263,7 @@ fn an_emptied_or_foreign_params_file_is_damaged() {
     ran.detected_and_recomputed("edmd", &[0], &["do not give its canonical form"]);
 }
 
-/// Issue 49: the checkpoint and record log of *done* jobs are checked too. Cheaply by every
+/// The checkpoint and record log of *done* jobs are checked too. Cheaply by every
 /// `status` (which job they name, their lengths): a record log copied from another job and a
 /// checkpoint cut short are found at once; a byte flipped inside a record log only by `status
 /// --verify`, which reads the files whole. `run --retry-failed` finds all three, sets the
