@@ -441,7 +441,8 @@ fn huge_values_repeated_overrides_and_negative_zero() {
     let file = sweep_file(&dir, "ok.ron", SMALL);
     let f = file.to_str().unwrap();
 
-    // W/d = 1e308 in the file: the engine cannot place the spheres; no 309-digit numbers
+    // W/d = 1e308 in the file: blamed on the width (not on the volume fraction that follows
+    // from it) with its allowed range; no 309-digit numbers
     let huge = sweep_file(
         &dir,
         "huge.ron",
@@ -452,6 +453,22 @@ fn huge_values_repeated_overrides_and_negative_zero() {
     assert_eq!(out.status.code(), Some(2), "{text}");
     assert!(text.contains("huge.ron:"), "{text}");
     assert!(text.contains("1e308"), "{text}");
+    assert!(text.contains("key `fixed.width_over_diameter`"), "{text}");
+    assert!(text.contains("3 <= W/d <= 1e5"), "{text}");
+    assert!(longest_digit_run(&text) <= 20, "{text}");
+
+    // a box that is fine on each side but too large for phi: blamed on phi, with N readable
+    let out = granflow(&[
+        "plan",
+        f,
+        "--set",
+        "width_over_diameter=1e5",
+        "--set",
+        "height_over_diameter=1e5",
+    ]);
+    let text = said(&out);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    assert!(text.contains("allowed N <= 1e9"), "{text}");
     assert!(longest_digit_run(&text) <= 20, "{text}");
 
     // a run length of 1e308 from --set with the file's interval: too many snapshots, blamed on

@@ -68,8 +68,16 @@ pub static DECLARATION: EngineDef = EngineDef {
     example_run: (Clock::CollisionsPerParticle, 1000.0, 100.0),
 };
 
+/// Largest box side, in diameters: far beyond any channel one machine can fill, and small
+/// enough that counts of lattice sites along it stay exact.
+const LONGEST_SIDE: f64 = 1e7;
+/// Largest wall-to-wall width or spanwise height, in diameters.
+const WIDEST_SIDE: f64 = 1e5;
+/// Largest number of spheres, the bound of [`count`].
+const MOST_PARTICLES: f64 = 1e9;
+
 fn side(v: f64) -> bool {
-    v >= 3.0
+    (3.0..=WIDEST_SIDE).contains(&v)
 }
 /// Below the densest packing of spheres, pi / (3 sqrt 2) (fcc); what a given box can hold is
 /// checked against the placement's capacity ([`lattice_capacity`]).
@@ -80,7 +88,7 @@ fn inertia(v: f64) -> bool {
     v > 0.0 && v <= 1.0
 }
 fn count(v: f64) -> bool {
-    (1.0..=1e9).contains(&v)
+    (1.0..=MOST_PARTICLES).contains(&v)
 }
 
 const fn real(
@@ -113,7 +121,7 @@ const PARAMS: &[ParamDef] = &[
         "L/W",
         "1",
         ParamDefault::Required,
-        "a finite value > 0 with L = (L/W)(W/d) >= 3",
+        "a finite value > 0 with 3 <= L = (L/W)(W/d) <= 1e7",
         ranges::positive,
         "channel length (periodic, along gravity) over width",
     ),
@@ -122,7 +130,7 @@ const PARAMS: &[ParamDef] = &[
         "W/d",
         "1",
         ParamDefault::Required,
-        "a finite value >= 3 (channel width in particle diameters)",
+        "a finite value 3 <= W/d <= 1e5 (channel width in particle diameters)",
         side,
         "channel width, wall to wall",
     ),
@@ -131,7 +139,7 @@ const PARAMS: &[ParamDef] = &[
         "H/d",
         "1",
         ParamDefault::Required,
-        "a finite value >= 3 (spanwise extent in particle diameters)",
+        "a finite value 3 <= H/d <= 1e5 (spanwise extent in particle diameters)",
         side,
         "spanwise extent (periodic)",
     ),
@@ -268,17 +276,28 @@ fn resolve(values: &mut Values) -> Result<(), Problem> {
     }
     let requested_phi = has(values, "volume_fraction") && !has(values, "particles");
     let g = geometry(values);
-    if g.length < 3.0 {
+    if !(3.0..=LONGEST_SIDE).contains(&g.length) {
         return Err(Problem::new(
             "length_over_width",
             format!(
-                "L = (L/W)(W/d) = {} is too short: allowed L >= 3 particle diameters",
+                "L = (L/W)(W/d) = {} particle diameters: allowed 3 <= L <= {LONGEST_SIDE:e}",
                 g.length
             ),
         ));
     }
     if requested_phi {
         let phi = number(values, "volume_fraction");
+        let n = phi * g.volume() / (std::f64::consts::PI / 6.0);
+        if n > MOST_PARTICLES {
+            return Err(Problem::new(
+                "volume_fraction",
+                format!(
+                    "phi = {phi} in the {} x {} x {} channel makes N = {n:.3e} spheres: allowed \
+                     N <= {MOST_PARTICLES:e} (lower phi or shrink the box)",
+                    g.length, g.width, g.height
+                ),
+            ));
+        }
         values.insert(
             "particles".into(),
             ParamValue::Number(particles_for_volume_fraction(&g, phi) as f64),
