@@ -65,7 +65,7 @@ pub fn check_job_memory(engine: &EngineDef, values: &Values) -> Result<(), Strin
     let limit = job_memory_limit();
     if memory > limit {
         return Err(format!(
-            "a job needs about {:.3e} GB of memory ({} = {:.3e}), more than the limit of {:.1} GB \
+            "a job needs about {:.0} GB of memory ({} = {:.3e}), more than the limit of {:.1} GB \
              (the machine's memory; set GRANFLOW_MAX_JOB_MEMORY_GB to change it)",
             memory / 1e9,
             engine.size_name,

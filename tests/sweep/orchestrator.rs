@@ -187,7 +187,7 @@ fn malformed_non_positive_size() {
         "size",
         &text,
         "width_over_diameter: -4.0",
-        &["width_over_diameter", "-4", ">= 3"],
+        &["width_over_diameter", "-4", "3 <= W/d <= 1e5"],
     );
 }
 

@@ -403,6 +403,18 @@ fn impossible_runs_are_refused_up_front() {
         args.extend_from_slice(extra);
         granflow(&args)
     };
+    // N = 2.9e8 spheres: within the engine's size bound, beyond any CI machine's memory.
+    let out = run(&[
+        "--set",
+        "width_over_diameter=1000",
+        "--set",
+        "height_over_diameter=1000",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("GB of memory"), "{stderr}");
+    assert!(!results.exists(), "something was written");
+    // N = 2.9e14 spheres: refused by the size bound, naming the volume fraction and the bound.
     let out = run(&[
         "--set",
         "width_over_diameter=100000",
@@ -410,7 +422,8 @@ fn impossible_runs_are_refused_up_front() {
         "height_over_diameter=100000",
     ]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("GB of memory"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("allowed N <= 1e9"), "{stderr}");
     assert!(!results.exists(), "something was written");
     let out = run(&["--job-range", "5:9"]);
     assert_eq!(out.status.code(), Some(2));
