@@ -174,7 +174,7 @@ where
 {
     let bytes =
         render_png(css, scale, draw).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    crate::sweep::write_atomic(path, &bytes)?;
+    crate::fs::write_atomic(path, &bytes)?;
     Ok(())
 }
 
@@ -214,7 +214,7 @@ where
     ) -> Result<(), DrawingError<SVGBackend<'static>>>,
 {
     let text = render_svg(css, draw).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    crate::sweep::write_atomic(path, text.as_bytes())?;
+    crate::fs::write_atomic(path, text.as_bytes())?;
     Ok(())
 }
 

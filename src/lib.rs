@@ -7,9 +7,12 @@
 //!     job queue (claim, lock) --> rayon pool --> engine::Engine::advance ... snapshots --> analysis
 //!     --> per-job outputs (atomic writes) --> gather --> results/<sweep>/*.parquet --> phase diagram
 //! ```
-//! - [`engine`]: the engine boundary and the event-driven engine ([`engine::edmd`]).
+//! - [`fs`]: atomic writes and I/O errors with their path (the bottom layer).
+//! - [`engine`]: the engine boundary and the engines ([`engine::edmd`], [`engine::lga`],
+//!   [`engine::dsmc`], [`engine::dem`]); imports nothing above itself.
 //! - [`analysis`]: fields, spectra, profiles, steady-state detection, classification, and the
 //!   thesis' chapter 3-4 statistics ([`analysis::statistics`], opt-in per sweep).
+//! - [`registry`]: the one list of engines, each paired with the analysis its snapshots feed.
 //! - [`sweep`]: sweep files, grids, job ids, the resumable queue, tables, phase diagrams.
 //! - [`slurm`]: job arrays on a Slurm cluster running the same job code; status via squeue.
 //! - [`provenance`]: which code made a result (version, commit, engine and analysis versions).
@@ -24,7 +27,9 @@ pub mod analysis;
 pub mod cli;
 pub mod engine;
 pub mod figure;
+pub mod fs;
 pub mod provenance;
+pub mod registry;
 pub mod report;
 pub mod slurm;
 pub mod sweep;

@@ -15,6 +15,8 @@ mod dem;
 mod dsmc;
 /// The EDMD engine: collision, equilibrium and cooling oracles, channel balances, references.
 mod edmd;
+/// The engine boundary: a toy engine plugged in through the declaration path; layering.
+mod engine;
 /// The lattice gas: conservation, the bit-parallel kernel, the seed's oracles, sweeps.
 mod lga;
 /// Figures, the HTML report and the viewer files.

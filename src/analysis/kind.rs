@@ -552,13 +552,13 @@ impl Analyser {
                 )))
             }
             Analyser::Rarefied(_) => {
-                let sample = snapshot.sampled().ok_or(
+                let sample = snapshot.sample::<crate::engine::dsmc::channel::Sample>().ok_or(
                     "the rarefied analysis needs sampled moments, and this engine's snapshots carry none",
                 )?;
                 Ok(Record::Rarefied(Box::new(sample.clone())))
             }
             Analyser::Dense(_) => {
-                let sample = snapshot.dem().ok_or(
+                let sample = snapshot.sample::<crate::engine::dem::Sample>().ok_or(
                     "the dense analysis needs DEM bin sums, and this engine's snapshots carry none",
                 )?;
                 Ok(Record::Dense(Box::new(sample.record.clone())))

@@ -3,7 +3,7 @@
 //! cannot drift from the declarations: a test compares them).
 
 use super::out::{out, outln};
-use crate::engine::registry;
+use crate::registry;
 use clap::Args;
 
 #[derive(Debug, Args)]
@@ -20,7 +20,7 @@ pub struct EnginesArgs {
 /// The parameter tables of docs/parameters.md: one heading line and table per engine.
 pub fn markdown() -> String {
     let mut out = String::new();
-    for e in registry::ENGINES {
+    for e in registry::engines() {
         out.push_str(&format!(
             "`engine: \"{}\"`: {}. Run length: {}.\n\n",
             e.name,
@@ -53,7 +53,7 @@ pub fn run(args: EnginesArgs) -> anyhow::Result<()> {
         out!("{}", markdown());
         return Ok(());
     }
-    for e in registry::ENGINES {
+    for e in registry::engines() {
         outln!("{}: {}", e.name, e.title);
         outln!("  run length: {}", e.clock_names());
         outln!(
@@ -82,7 +82,7 @@ pub fn run(args: EnginesArgs) -> anyhow::Result<()> {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        outln!("  analysis: {:?}", e.analysis);
+        outln!("  analysis: {:?}", registry::analysis_of(e));
     }
     Ok(())
 }

@@ -93,7 +93,7 @@ pub fn run(args: LammpsImportArgs) -> anyhow::Result<()> {
     let flow_steps = last.timestep - first.timestep;
     let def = job.params.def();
     // the granflow build that analysed the dump; engine version 0: the run is LAMMPS'
-    let mut provenance = Provenance::here(0, def.analysis.version());
+    let mut provenance = Provenance::here(0, crate::registry::analysis_of(def).version());
     provenance.finished = crate::provenance::now();
     let result = JobResult {
         format: RESULT_FORMAT,

@@ -2,7 +2,7 @@
 //! parameter of every engine is a flag `--<name with - for _>` (help heading "Engine
 //! parameters"), so a new engine's parameters appear in `granflow sim --help` without code here.
 
-use crate::engine::registry;
+use crate::registry;
 use clap::{Arg, ArgMatches, Args, Command, FromArgMatches};
 
 /// The engine-parameter flags given on the command line: (parameter name, text), in the order
@@ -13,7 +13,7 @@ pub struct ParamFlags(pub Vec<(&'static str, String)>);
 /// Each parameter name once (engines may share a name), with the engines that declare it.
 fn flag_params() -> Vec<(&'static crate::engine::ParamDef, Vec<&'static str>)> {
     let mut out: Vec<(&'static crate::engine::ParamDef, Vec<&'static str>)> = Vec::new();
-    for engine in registry::ENGINES {
+    for engine in registry::engines() {
         for def in engine.params {
             match out.iter_mut().find(|(d, _)| d.name == def.name) {
                 Some((_, engines)) => engines.push(engine.name),

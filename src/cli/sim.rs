@@ -5,7 +5,8 @@
 use super::out::outln;
 use super::params::ParamFlags;
 use crate::analysis::{self, Analyser, Analysis, JobAnalysis};
-use crate::engine::{Clock, EngineDef, ParamValue, Snapshot, StopAt, Values, registry};
+use crate::engine::{Clock, EngineDef, ParamValue, Snapshot, StopAt, Values};
+use crate::registry;
 use crate::sweep::BadInput;
 use crate::sweep::ranges::RangeCall;
 use crate::sweep::spec::{ParamValues, did_you_mean};
@@ -155,7 +156,7 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
             } else {
                 format!(
                     "{origin}: `{key}` is a parameter of {}, not of {} (use --engine)",
-                    crate::engine::registry::engines_phrase(&others),
+                    registry::engines_phrase(&others),
                     engine.name
                 )
             }));
@@ -207,7 +208,8 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
             }
         ))
     })?;
-    let mut settings = engine.analysis.default_settings();
+    let kind = registry::analysis_of(engine);
+    let mut settings = kind.default_settings();
     if let Some(g) = &args.grid {
         if g.len() != 3 || g.contains(&0) {
             return Err(bad(format!(
@@ -216,8 +218,7 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
         }
         settings["grid"] = serde_json::json!(g);
     }
-    let analyser = engine
-        .analysis
+    let analyser = kind
         .analyser(&settings)
         .map_err(|m| bad(format!("--grid: {m}")))?;
     if !matches!(analyser, Analyser::Structure(_)) {
@@ -346,17 +347,12 @@ fn print_summary(a: &Analysis) {
 
 /// The engines whose snapshots carry particles (those with the structure analysis).
 fn particle_engines() -> String {
-    registry::ENGINES
-        .iter()
-        .filter(|e| {
-            matches!(
-                e.analysis.analyser(&e.analysis.default_settings()),
-                Ok(Analyser::Structure(_))
-            )
-        })
-        .map(|e| e.name)
-        .collect::<Vec<_>>()
-        .join(", ")
+    registry::engines_analysed_by(|a| {
+        matches!(
+            a.analyser(&a.default_settings()),
+            Ok(Analyser::Structure(_))
+        )
+    })
 }
 
 /// A column title from a ratio name (`tc_elastic_fraction` -> `TC frac`).

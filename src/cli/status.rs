@@ -83,7 +83,7 @@ fn status_json(
                 "outdated": j.result.as_ref().and_then(|r| {
                     let def = j.job.params.def();
                     r.provenance
-                        .outdated(def.version, def.analysis.version())
+                        .outdated(def.version, crate::registry::analysis_of(def).version())
                         .map(|o| o.reason)
                 }),
             })
@@ -144,7 +144,7 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                 let def = j.job.params.def();
                 let outdated = r
                     .provenance
-                    .outdated(def.version, def.analysis.version())
+                    .outdated(def.version, crate::registry::analysis_of(def).version())
                     .map_or(String::new(), |o| {
                         format!("  OUTDATED ({}; `run --rerun-outdated`)", o.reason)
                     });

@@ -1,11 +1,10 @@
 //! The shape of an engine declaration ([`EngineDef`]): name, parameters ([`ParamDef`]: symbol,
 //! unit, default, allowed range, doc, place in the job id), derived quantities, clocks, work and
-//! memory estimates, counters, how to build and restore it, and which analysis its snapshots
-//! feed. Sweep files, validation, `--set`, `plan`, job ids, tables, `sim` flags and the
+//! memory estimates, counters, how to build and restore it (which analysis its snapshots feed
+//! is said by `crate::registry`, which pairs them). Sweep files, validation, `--set`, `plan`, job ids, tables, `sim` flags and the
 //! parameter tables are all generated from these declarations.
 
 use super::{Engine, EngineError};
-use crate::analysis::AnalysisKind;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -354,8 +353,6 @@ pub struct EngineDef {
     pub counters: &'static [CounterDef],
     /// counter ratios reported per job
     pub ratios: &'static [RatioDef],
-    /// which analysis its snapshots feed
-    pub analysis: AnalysisKind,
     /// values of the required parameters for `granflow sim` without flags (as text)
     pub example: &'static [(&'static str, &'static str)],
     /// run of `granflow sim` without a length: clock, length, report interval

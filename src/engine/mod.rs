@@ -1,6 +1,8 @@
 //! The engine boundary: what every simulation engine offers to a job (advance, snapshot,
-//! checkpoint/restore, counters), independent of how it moves particles, and the registry of
-//! engines ([`registry`]), where each engine declares its parameters, clock and analysis once.
+//! checkpoint/restore, counters), independent of how it moves particles, and the shape of the
+//! declaration ([`declare`]) in which each engine states its parameters, clocks and counters
+//! once. The engines import nothing above this layer; `crate::registry` lists them and pairs
+//! each with its analysis.
 //!
 //! Units of the particle engines: particle diameter d = 1, mass m = 1, gravity g = 1 (when
 //! switched on); time is measured in sqrt(d/g). The lattice gas counts sites and time steps.
@@ -13,9 +15,10 @@ pub mod envelope;
 pub mod free_paths;
 pub mod lga;
 pub(crate) mod prefetch;
-pub mod registry;
 
 use serde::{Deserialize, Serialize};
+use std::any::Any;
+use std::fmt;
 
 pub use declare::{Clock, EngineDef, ParamDef, ParamValue, Values};
 pub use free_paths::FreePathTally;
@@ -231,18 +234,66 @@ pub struct Lattice {
 }
 
 /// What a snapshot holds, by kind of engine.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Debug)]
 pub enum Content {
-    /// spheres (hard-sphere MD, DEM)
+    /// spheres (hard-sphere MD)
     Particles(Particles),
     /// a lattice gas
     Lattice(Lattice),
-    /// a sampled rarefied gas (DSMC): the cell moments and balances summed since the previous
-    /// snapshot, with the run's constants
-    Sampled(Box<dsmc::channel::Sample>),
-    /// a dense flow by DEM: the bin sums and wall balances since the previous snapshot with
-    /// the run's constants, and the particles
-    Dem(Box<dem::Sample>),
+    /// the engine's own sample, which only its analysis reads ([`Snapshot::sample`]): DSMC's
+    /// cell moments and balances since the previous snapshot, DEM's bin sums and wall
+    /// balances with its particles
+    Sample(Box<dyn EngineSample>),
+}
+
+/// An engine's own snapshot content: a type of the engine's that its analysis downcasts
+/// ([`Snapshot::sample`]); the rest of granflow sees only the particles it may carry.
+pub trait EngineSample: SampleCopy + fmt::Debug + Send {
+    /// The particles, where the sample carries them (viewers and particle analyses read them).
+    fn particles(&self) -> Option<&Particles> {
+        None
+    }
+    /// The particles, mutable (tests that build synthetic states).
+    fn particles_mut(&mut self) -> Option<&mut Particles> {
+        None
+    }
+}
+
+/// Copy and comparison of a boxed sample (snapshots are `Clone` and `PartialEq`); every
+/// `Clone + PartialEq` sample has them.
+pub trait SampleCopy: Any {
+    fn boxed_clone(&self) -> Box<dyn EngineSample>;
+    fn same_as(&self, other: &dyn EngineSample) -> bool;
+}
+
+impl<T: EngineSample + Clone + PartialEq> SampleCopy for T {
+    fn boxed_clone(&self) -> Box<dyn EngineSample> {
+        Box::new(self.clone())
+    }
+    fn same_as(&self, other: &dyn EngineSample) -> bool {
+        (other as &dyn Any).downcast_ref::<T>() == Some(self)
+    }
+}
+
+impl Clone for Content {
+    fn clone(&self) -> Self {
+        match self {
+            Content::Particles(p) => Content::Particles(p.clone()),
+            Content::Lattice(l) => Content::Lattice(l.clone()),
+            Content::Sample(s) => Content::Sample(s.boxed_clone()),
+        }
+    }
+}
+
+impl PartialEq for Content {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Content::Particles(a), Content::Particles(b)) => a == b,
+            (Content::Lattice(a), Content::Lattice(b)) => a == b,
+            (Content::Sample(a), Content::Sample(b)) => a.same_as(&**b),
+            _ => false,
+        }
+    }
 }
 
 /// The state of an engine at one time, with its clocks and counters. Analyses consume it;
@@ -267,8 +318,8 @@ impl Snapshot {
     pub fn particles(&self) -> Option<&Particles> {
         match &self.content {
             Content::Particles(p) => Some(p),
-            Content::Dem(s) => Some(&s.particles),
-            _ => None,
+            Content::Sample(s) => s.particles(),
+            Content::Lattice(_) => None,
         }
     }
 
@@ -276,8 +327,8 @@ impl Snapshot {
     pub fn particles_mut(&mut self) -> Option<&mut Particles> {
         match &mut self.content {
             Content::Particles(p) => Some(p),
-            Content::Dem(s) => Some(&mut s.particles),
-            _ => None,
+            Content::Sample(s) => s.particles_mut(),
+            Content::Lattice(_) => None,
         }
     }
 
@@ -289,18 +340,11 @@ impl Snapshot {
         }
     }
 
-    /// The sampled moments, for DSMC.
-    pub fn sampled(&self) -> Option<&dsmc::channel::Sample> {
+    /// The engine's own sample, when the snapshot holds one of type `T` (an analysis asks for
+    /// its engine's type, e.g. `dsmc::Sample`).
+    pub fn sample<T: EngineSample>(&self) -> Option<&T> {
         match &self.content {
-            Content::Sampled(s) => Some(s),
-            _ => None,
-        }
-    }
-
-    /// The bin sums and particles, for DEM.
-    pub fn dem(&self) -> Option<&dem::Sample> {
-        match &self.content {
-            Content::Dem(s) => Some(s),
+            Content::Sample(s) => (&**s as &dyn Any).downcast_ref(),
             _ => None,
         }
     }
@@ -357,18 +401,4 @@ pub trait Engine: Send {
     fn take_free_paths(&mut self) -> Option<FreePathTally> {
         None
     }
-}
-
-/// Rebuild an engine from checkpoint bytes written by [`Engine::checkpoint`]: the envelope
-/// names the engine, whose declaration restores it.
-pub fn restore(bytes: &[u8]) -> Result<Box<dyn Engine>, EngineError> {
-    let sealed = envelope::open(bytes)?;
-    let def = registry::find(&sealed.engine).ok_or_else(|| {
-        EngineError::Checkpoint(format!(
-            "written by the engine \"{}\", which this granflow does not have (engines: {})",
-            sealed.engine,
-            registry::names()
-        ))
-    })?;
-    (def.restore)(sealed.version, sealed.payload)
 }

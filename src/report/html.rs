@@ -259,7 +259,7 @@ fn jobs_table(h: &mut String, sweep: &Sweep, views: &[JobView]) {
     let engine = sweep.engine();
     let swept = swept_in(sweep);
     let seeds = sweep.spec.seeds.len() > 1;
-    let keys = key_columns(engine.analysis);
+    let keys = key_columns(crate::registry::analysis_of(engine));
     h.push_str(
         "<section id=\"jobs\">\n<h2>Jobs</h2>\n<p>Click a column heading to sort by it. \
          Values of running and partial jobs are from their records so far (in italics).</p>\n\
@@ -497,7 +497,7 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
             ),
         ]);
         let def = job.params.def();
-        if let Some(o) = p.outdated(def.version, def.analysis.version()) {
+        if let Some(o) = p.outdated(def.version, crate::registry::analysis_of(def).version()) {
             rows.push((
                 "OUTDATED".into(),
                 format!("{} (`granflow run --rerun-outdated`)", o.reason),

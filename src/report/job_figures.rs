@@ -311,21 +311,21 @@ pub fn write(job_dir: &Path, figures: &[JobFigure]) -> anyhow::Result<Vec<PathBu
     }
     let sizing = Sizing::default();
     let dir = job_dir.join(FIGURES_DIR);
-    std::fs::create_dir_all(&dir).map_err(|e| crate::sweep::fs_error::PathError::new(&dir, e))?;
+    std::fs::create_dir_all(&dir).map_err(|e| crate::fs::PathError::new(&dir, e))?;
     let mut written = Vec::new();
     for f in figures {
         let png = dir.join(format!("{}.png", f.name));
         let bytes = f.png(&sizing)?;
-        crate::sweep::write_atomic(&png, &bytes)?;
+        crate::fs::write_atomic(&png, &bytes)?;
         written.push(png);
         if let Some(name) = f.also_at() {
             let also = job_dir.join(name);
-            crate::sweep::write_atomic(&also, &bytes)?;
+            crate::fs::write_atomic(&also, &bytes)?;
             written.push(also);
         }
         if !f.raster_only() {
             let svg = dir.join(format!("{}.svg", f.name));
-            crate::sweep::write_atomic(&svg, f.svg(&sizing)?.as_bytes())?;
+            crate::fs::write_atomic(&svg, f.svg(&sizing)?.as_bytes())?;
             written.push(svg);
         }
     }

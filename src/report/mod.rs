@@ -280,6 +280,6 @@ pub fn write_report(
     std::fs::create_dir_all(&dirs.tables)
         .map_err(|e| anyhow::anyhow!("{}: {e}", dirs.tables.display()))?;
     let path = dirs.tables.join(REPORT_FILE);
-    crate::sweep::write_atomic(&path, page.as_bytes())?;
+    crate::fs::write_atomic(&path, page.as_bytes())?;
     Ok(path)
 }

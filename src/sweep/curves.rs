@@ -107,8 +107,8 @@ pub struct CurvePlot {
 /// statistics' columns where its analysis has them (jobs without statistics give no points).
 pub fn numeric_columns(engine: &EngineDef) -> Vec<String> {
     use crate::analysis::columns::ColumnKind;
-    let mut columns = engine.analysis.summary_columns();
-    if engine.analysis.supports_statistics() {
+    let mut columns = crate::registry::analysis_of(engine).summary_columns();
+    if crate::registry::analysis_of(engine).supports_statistics() {
         columns.extend(crate::analysis::statistics::tables::summary_columns());
     }
     columns

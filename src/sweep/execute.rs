@@ -12,7 +12,7 @@
 use super::grid::PlannedJob;
 use super::store::{self, Claim, JobCheckpoint, JobResult, RecordLog};
 use crate::analysis::StopCheck;
-use crate::engine::{self, Engine, StopAt};
+use crate::engine::{Engine, StopAt};
 use crate::provenance::Provenance;
 use std::time::Instant;
 
@@ -61,7 +61,7 @@ pub fn run_job(
         Some(cp) => {
             let (log, records) = RecordLog::resume(dir, &job.id.0, &cp)?;
             store::log(dir, &format!("resume at snapshot {} {build}", cp.snapshot))?;
-            let mut engine: Box<dyn Engine> = engine::restore(&cp.engine)?;
+            let mut engine: Box<dyn Engine> = crate::registry::restore(&cp.engine)?;
             // free paths are not part of the engine's state: switched on again (the
             // checkpoint was taken right after a snapshot had emptied the tally)
             if let Some(slabs) = analyser.free_path_slabs() {
@@ -179,7 +179,7 @@ pub fn run_job(
     }
     let wall_seconds = wall_before + started.elapsed().as_secs_f64();
     let def = job.params.def();
-    let mut provenance = Provenance::here(def.version, def.analysis.version());
+    let mut provenance = Provenance::here(def.version, crate::registry::analysis_of(def).version());
     provenance.started = store::first_start(dir).unwrap_or_default();
     provenance.finished = crate::provenance::now();
     Ok(JobEnd::Finished(Box::new(JobResult {

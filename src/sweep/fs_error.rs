@@ -3,30 +3,10 @@
 //! system): those stop a runner from starting new jobs and leave the job resumable instead of
 //! failing it, since they say nothing about the job.
 
-use std::path::{Path, PathBuf};
+#[cfg(test)]
+use std::path::Path;
 
-/// An I/O error on a path (its message holds the error's, so it is not a separate cause).
-#[derive(Debug, thiserror::Error)]
-#[error("{}: {error}", path.display())]
-pub struct PathError {
-    pub path: PathBuf,
-    pub error: std::io::Error,
-}
-
-impl PathError {
-    pub fn new(path: &Path, error: std::io::Error) -> Self {
-        PathError {
-            path: path.to_path_buf(),
-            error,
-        }
-    }
-}
-
-impl From<PathError> for std::io::Error {
-    fn from(e: PathError) -> Self {
-        std::io::Error::new(e.error.kind(), e)
-    }
-}
+pub use crate::fs::PathError;
 
 /// A run stopped by a resource error (exit code [`EXIT_RESOURCE`]): what happened, where.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -37,14 +17,7 @@ pub struct ResourceStop(pub String);
 /// once the disk has room).
 pub const EXIT_RESOURCE: u8 = 75;
 
-/// ENOSPC, EDQUOT, EFBIG, EIO, EROFS, EACCES (Linux numbers): the place the files go, not
-/// the input, is at fault (a directory without write permission is a read-only directory).
-const RESOURCE_ERRNOS: &[i32] = &[28, 122, 27, 5, 30, 13];
-
-/// Whether an OS error number is a resource error.
-pub fn is_resource_errno(n: i32) -> bool {
-    RESOURCE_ERRNOS.contains(&n)
-}
+pub use crate::fs::is_resource_errno;
 
 fn is_resource_io(e: &std::io::Error) -> bool {
     if e.raw_os_error().is_some_and(is_resource_errno) {

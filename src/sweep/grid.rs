@@ -146,8 +146,7 @@ fn check_plan_size(spec: &SweepSpec, engine: &EngineDef, src: &Source) -> Result
 pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, SpecError> {
     let engine = engine_of(spec).expect("validated: the engine exists");
     check_plan_size(spec, engine, src)?;
-    let analyser = engine
-        .analysis
+    let analyser = crate::registry::analysis_of(engine)
         .analyser(&spec.analysis)
         .map_err(|m| src.error_at(None, "analysis", 0, m))?;
     let analysis = analyser.settings();

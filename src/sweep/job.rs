@@ -17,7 +17,8 @@
 
 use crate::analysis::statistics::{StatisticsPlan, StatisticsSettings};
 use crate::engine::declare::InId;
-use crate::engine::{Clock, EngineDef, EngineError, ParamDef, ParamValue, Values, registry};
+use crate::engine::{Clock, EngineDef, EngineError, ParamDef, ParamValue, Values};
+use crate::registry;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use sha2::{Digest, Sha256};
@@ -215,7 +216,7 @@ impl RunSettings {
                 ),
             ));
         }
-        if self.until_steady.is_some() && !engine.analysis.supports_until_steady() {
+        if self.until_steady.is_some() && !registry::analysis_of(engine).supports_until_steady() {
             return Err((
                 "until_steady",
                 format!(
@@ -238,19 +239,14 @@ impl RunSettings {
             ));
         }
         if let Some(st) = &self.statistics {
-            if !engine.analysis.supports_statistics() {
+            if !registry::analysis_of(engine).supports_statistics() {
                 return Err((
                     "statistics",
                     format!(
                         "the {} engine's snapshots carry no particles: the statistics need \
                          particles with velocities (engines whose snapshots carry them: {})",
                         engine.name,
-                        registry::ENGINES
-                            .iter()
-                            .filter(|e| e.analysis.supports_statistics())
-                            .map(|e| e.name)
-                            .collect::<Vec<_>>()
-                            .join(", ")
+                        registry::engines_analysed_by(|a| a.supports_statistics())
                     ),
                 ));
             }
@@ -301,18 +297,13 @@ impl RunSettings {
             }
             return Ok(());
         }
-        if engine.analysis != crate::analysis::AnalysisKind::Structure {
+        if registry::analysis_of(engine) != crate::analysis::AnalysisKind::Structure {
             return Err((
                 "milestones",
                 format!(
                     "the {} engine's analysis records no structure at milestones (only engines with the structure analysis do: {})",
                     engine.name,
-                    crate::engine::registry::ENGINES
-                        .iter()
-                        .filter(|e| e.analysis == crate::analysis::AnalysisKind::Structure)
-                        .map(|e| e.name)
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    registry::engines_analysed_by(|a| a == crate::analysis::AnalysisKind::Structure)
                 ),
             ));
         }
@@ -478,7 +469,7 @@ impl JobParams {
     /// The analysis of this job's engine with the job's settings, the run's milestones and its
     /// statistics, when the run asks for them.
     pub fn analyser(&self) -> Result<crate::analysis::Analyser, String> {
-        let mut analyser = self.def().analysis.analyser(&self.analysis)?;
+        let mut analyser = registry::analysis_of(self.def()).analyser(&self.analysis)?;
         if let crate::analysis::Analyser::Structure(settings) = &mut analyser {
             settings.milestones = self.run.milestone_plan(self.def());
         }
@@ -512,7 +503,7 @@ pub fn canonical_with(table: &[ParamDef], job: &JobParams) -> String {
         }
     }
     let defaults = registry::find(&job.engine)
-        .map(|e| e.analysis.default_settings())
+        .map(|e| registry::analysis_of(e).default_settings())
         .unwrap_or(Value::Null);
     let mut analysis = BTreeMap::new();
     if let Value::Object(now) = &job.analysis {

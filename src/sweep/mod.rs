@@ -32,7 +32,6 @@ pub use grid::PlannedJob;
 pub use job::{JobId, JobParams, RunSettings};
 pub use spec::{Origin, SpecError, SweepSpec};
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Bad command-line input other than the sweep file (exit code 2).
@@ -294,27 +293,11 @@ pub fn check_results_root(root: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The first resource error (a full disk, ...) that stdout gave [`say`], if any.
-static STDOUT_LOST: std::sync::Mutex<Option<String>> = std::sync::Mutex::new(None);
-
-/// Print a line on stdout, ignoring a closed pipe (`granflow run ... | head` must not stop a
-/// run: results are written whatever happens to the output). A full stdout does not stop the
-/// run either (its results come first), but is remembered: [`stdout_failure`] ends the
-/// command with the resource exit code.
-pub fn say(line: &str) {
-    let mut out = std::io::stdout().lock();
-    if let Err(e) = writeln!(out, "{line}").and_then(|()| out.flush())
-        && e.raw_os_error().is_some_and(fs_error::is_resource_errno)
-    {
-        let mut lost = STDOUT_LOST.lock().unwrap_or_else(|p| p.into_inner());
-        lost.get_or_insert_with(|| e.to_string());
-    }
-}
+pub use crate::fs::{say, write_atomic};
 
 /// Err (exit code 75) when a line [`say`] wrote was lost to a resource error of stdout.
 pub fn stdout_failure() -> anyhow::Result<()> {
-    let lost = STDOUT_LOST.lock().unwrap_or_else(|p| p.into_inner());
-    match lost.as_ref() {
+    match crate::fs::stdout_lost() {
         None => Ok(()),
         Some(e) => Err(fs_error::ResourceStop(format!(
             "writing to standard output: {e}: the command's own files are written, its \
@@ -323,35 +306,4 @@ pub fn stdout_failure() -> anyhow::Result<()> {
         ))
         .into()),
     }
-}
-
-/// Write a file atomically: temp file in the same directory (named by host, process and a
-/// counter, so that writers on different nodes of a cluster never share one), fsync, rename,
-/// fsync the directory. A failed write removes its temp file.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    use std::sync::atomic::{AtomicU64, Ordering};
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let tmp = dir.join(format!(
-        ".{}.tmp-{}-{}-{}",
-        path.file_name()
-            .map(|n| n.to_string_lossy())
-            .unwrap_or_default(),
-        crate::provenance::host(),
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let written = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()
-    })();
-    if let Err(e) = written.and_then(|()| std::fs::rename(&tmp, path)) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(fs_error::PathError::new(path, e).into());
-    }
-    if let Ok(d) = std::fs::File::open(dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
 }

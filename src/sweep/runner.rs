@@ -128,7 +128,11 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
         match state {
             JobState::Done if opts.rerun_outdated => {
                 let def = job.params.def();
-                match store::retire_if_outdated(&dir, def.version, def.analysis.version())? {
+                match store::retire_if_outdated(
+                    &dir,
+                    def.version,
+                    crate::registry::analysis_of(def).version(),
+                )? {
                     Some(_) => {
                         summary.outdated += 1;
                         todo.push(*job)

@@ -5,7 +5,8 @@
 use super::job::RunSettings;
 use super::ranges::{RANGE_SYNTAX, RangeCall};
 use crate::engine::declare::ParamKind;
-use crate::engine::{Clock, EngineDef, ParamValue, Values, registry};
+use crate::engine::{Clock, EngineDef, ParamValue, Values};
+use crate::registry;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -98,8 +99,7 @@ impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for NamedVisitor<T> {
 /// The registry's own `&'static` spelling of a parameter name (RON writes struct fields from
 /// static names).
 fn static_name(key: &str) -> Option<&'static str> {
-    registry::ENGINES
-        .iter()
+    registry::engines()
         .find_map(|e| e.param(key))
         .map(|d| d.name)
 }
@@ -798,7 +798,7 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             .unwrap_or_else(|| src.error_at(Some("run"), key, 0, message.clone()))
             .with_message(message)
     })?;
-    if let Err(message) = engine.analysis.analyser(&spec.analysis) {
+    if let Err(message) = registry::analysis_of(engine).analyser(&spec.analysis) {
         return Err(src.error_at(None, "analysis", 0, message));
     }
     let check = |section: &str, name: &str, v: &ParamValue, skip: usize| -> Result<(), SpecError> {

@@ -109,7 +109,10 @@ pub fn schema(engine: &EngineDef) -> Vec<(String, Vec<(String, ColumnKind)>)> {
 /// The tables of an engine's sweeps with statistics (`run.statistics`): the plain ones, the
 /// statistics' columns of `jobs.parquet` and the statistics tables.
 pub fn schema_with_statistics(engine: &EngineDef) -> Vec<(String, Vec<(String, ColumnKind)>)> {
-    schema_of(engine, engine.analysis.supports_statistics())
+    schema_of(
+        engine,
+        crate::registry::analysis_of(engine).supports_statistics(),
+    )
 }
 
 fn schema_of(engine: &EngineDef, statistics: bool) -> Vec<(String, Vec<(String, ColumnKind)>)> {
@@ -130,7 +133,10 @@ fn schema_of(engine: &EngineDef, statistics: bool) -> Vec<(String, Vec<(String, 
 
 /// The row tables a sweep writes: its analysis', and the statistics tables when it has them.
 fn tables_of(engine: &EngineDef, statistics: bool) -> Vec<&'static TableDef> {
-    let mut tables: Vec<&'static TableDef> = engine.analysis.tables().iter().collect();
+    let mut tables: Vec<&'static TableDef> = crate::registry::analysis_of(engine)
+        .tables()
+        .iter()
+        .collect();
     if statistics {
         tables.extend(crate::analysis::statistics::tables::TABLES);
     }
@@ -139,7 +145,8 @@ fn tables_of(engine: &EngineDef, statistics: bool) -> Vec<&'static TableDef> {
 
 /// Whether a sweep writes the statistics' tables and columns.
 pub fn has_statistics(sweep: &Sweep) -> bool {
-    sweep.spec.run.statistics.is_some() && sweep.engine().analysis.supports_statistics()
+    sweep.spec.run.statistics.is_some()
+        && crate::registry::analysis_of(sweep.engine()).supports_statistics()
 }
 
 /// Write the tables of a sweep into its tables directory: `jobs.parquet` and the row tables
@@ -385,7 +392,7 @@ fn jobs_table(engine: &EngineDef, jobs: &[GatheredJob], statistics: bool) -> Vec
         .iter()
         .map(|j| j.result.as_ref().map(|r| r.analysis.summary()))
         .collect();
-    for (name, kind) in engine.analysis.summary_columns() {
+    for (name, kind) in crate::registry::analysis_of(engine).summary_columns() {
         if cols.iter().any(|c| c.name() == name) {
             continue;
         }

@@ -2,7 +2,8 @@
 //! alternatives), `granflow sim`, and a short channel run whose walls carry the weight.
 
 use granflow::engine::declare::Problem;
-use granflow::engine::{ParamValue, Values, registry};
+use granflow::engine::{ParamValue, Values};
+use granflow::registry;
 use std::process::Command;
 
 use crate::common::BIN;
@@ -135,7 +136,11 @@ fn the_walls_carry_the_weight_of_a_steady_flow() {
     for k in 1..=80 {
         e.advance(StopAt::Time(k as f64)).unwrap();
         let s = e.snapshot();
-        let r = s.dem().unwrap().record.clone();
+        let r = s
+            .sample::<granflow::engine::dem::Sample>()
+            .unwrap()
+            .record
+            .clone();
         let sums = &r.sums;
         let gravity = weight * sums.duration;
         let expected = gravity - sums.wall_impulse[0][0] - sums.wall_impulse[1][0];

@@ -167,7 +167,7 @@ fn checkpoint_restore_continue_is_bitwise_the_uninterrupted_run() {
     a.advance(time(3.0)).unwrap();
     a.snapshot();
     let bytes = a.checkpoint();
-    let mut b = granflow::engine::restore(&bytes).unwrap();
+    let mut b = granflow::registry::restore(&bytes).unwrap();
     assert_eq!(
         b.checkpoint(),
         bytes,
@@ -179,7 +179,10 @@ fn checkpoint_restore_continue_is_bitwise_the_uninterrupted_run() {
         let (sa, sb) = (a.snapshot(), b.snapshot());
         assert_eq!(sa.progress, sb.progress);
         assert_eq!(sa.counters, sb.counters);
-        let (da, db) = (sa.dem().unwrap(), sb.dem().unwrap());
+        let (da, db) = (
+            sa.sample::<granflow::engine::dem::Sample>().unwrap(),
+            sb.sample::<granflow::engine::dem::Sample>().unwrap(),
+        );
         assert_eq!(da.record.constants, db.record.constants);
         let (ia, ib) = (&da.record.sums, &db.record.sums);
         assert_eq!(ia.bins, ib.bins, "bins at {k}");

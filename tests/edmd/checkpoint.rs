@@ -52,7 +52,7 @@ fn resume_equals_uninterrupted(params: EdmdParams) {
     run(&mut first, 0, 4);
     let bytes = engine::Engine::checkpoint(&first);
     drop(first);
-    let mut resumed = engine::restore(&bytes).unwrap();
+    let mut resumed = granflow::registry::restore(&bytes).unwrap();
     let end = run(resumed.as_mut(), 4, 10);
     assert!(end.counters.get("pair_collisions") > 0 && end.time() > 0.0);
     assert_bitwise_equal(&reference, &end);
@@ -114,7 +114,7 @@ fn resumed_run_that_switches_its_search_is_bitwise_identical() {
         "checkpoint before the switch"
     );
     let bytes = engine::Engine::checkpoint(&before);
-    let mut resumed = engine::restore(&bytes).unwrap();
+    let mut resumed = granflow::registry::restore(&bytes).unwrap();
     assert_bitwise_equal(&reference, &run(resumed.as_mut(), switch - 1, end));
 
     let mut after = start();
@@ -124,7 +124,7 @@ fn resumed_run_that_switches_its_search_is_bitwise_identical() {
         "checkpoint after it"
     );
     let bytes = engine::Engine::checkpoint(&after);
-    let mut resumed = engine::restore(&bytes).unwrap();
+    let mut resumed = granflow::registry::restore(&bytes).unwrap();
     assert_bitwise_equal(&reference, &run(resumed.as_mut(), switch + 2, end));
 }
 
@@ -133,9 +133,9 @@ fn damaged_checkpoints_are_rejected() {
     let mut e = EdmdEngine::new(channel()).unwrap();
     run(&mut e, 0, 1);
     let bytes = engine::Engine::checkpoint(&e);
-    assert!(engine::restore(&bytes).is_ok());
+    assert!(granflow::registry::restore(&bytes).is_ok());
 
-    let reason = |b: &[u8]| match engine::restore(b) {
+    let reason = |b: &[u8]| match granflow::registry::restore(b) {
         Err(EngineError::Checkpoint(why)) => why,
         Err(other) => panic!("wrong error kind: {other}"),
         Ok(_) => panic!("a damaged checkpoint was accepted"),

@@ -638,7 +638,7 @@ fn engines_lists_unit_default_and_range() {
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("key") && text.contains("unit") && text.contains("default"));
-    for engine in granflow::engine::registry::ENGINES {
+    for engine in granflow::registry::engines() {
         for d in engine.params {
             let default = match d.default {
                 ParamDefault::Required => "required".to_string(),

@@ -5,7 +5,8 @@
 //! the engine a sweep names.
 
 use granflow::analysis::Analysis;
-use granflow::engine::{ParamValue, registry};
+use granflow::engine::ParamValue;
+use granflow::registry;
 use granflow::sweep::execute::{self, JobEnd};
 use granflow::sweep::{load_sweep, store};
 use polars::prelude::*;
@@ -72,7 +73,7 @@ fn pre_registry_files_still_read() {
     assert_eq!(cp.format, 1);
     assert_eq!(cp.snapshot, 4);
     assert_eq!(store::load_records(&old, &cp).unwrap().len(), 5);
-    let engine = granflow::engine::restore(&cp.engine).expect("old engine bytes restore");
+    let engine = granflow::registry::restore(&cp.engine).expect("old engine bytes restore");
     assert_eq!(engine.def().name, "edmd");
 
     let sweep = load_sweep(&fixture.join("tiny.ron"), &[]).unwrap();
@@ -191,7 +192,7 @@ fn readme_parameter_tables_match_the_declarations() {
     assert!(out.status.success());
     let generated = String::from_utf8(out.stdout).unwrap();
     assert!(!generated.trim().is_empty());
-    for engine in registry::ENGINES {
+    for engine in registry::engines() {
         let table = engine.markdown_table();
         assert!(generated.contains(&table));
         assert!(
@@ -501,7 +502,7 @@ fn results_readme_documents_every_column() {
         .map(|d| (d.name.clone(), d.kind.clone()))
         .collect();
     let mut all: Vec<(String, String)> = Vec::new();
-    for engine in registry::ENGINES {
+    for engine in registry::engines() {
         for (table, columns) in granflow::sweep::tables::schema_with_statistics(engine) {
             for (c, kind) in columns {
                 let kind = kind.doc_name();

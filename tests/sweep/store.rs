@@ -647,7 +647,7 @@ fn results_and_logs_carry_their_provenance() {
     assert_eq!(p.host, granflow::provenance::host());
     assert_eq!(
         p.engine_version,
-        granflow::engine::registry::find("edmd").unwrap().version
+        granflow::registry::find("edmd").unwrap().version
     );
     // RFC 3339 UTC times, start before finish
     for t in [&p.started, &p.finished] {

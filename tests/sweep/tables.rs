@@ -8,7 +8,7 @@
 //! (runners that end together) all succeed and leave one set.
 
 use crate::common::{BIN, granflow_ok, scratch};
-use granflow::engine::registry;
+use granflow::registry;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

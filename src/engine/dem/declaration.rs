@@ -7,7 +7,6 @@ use super::params::{
     damping_for_restitution, default_time_step,
 };
 use super::{DemEngine, prepare};
-use crate::analysis::AnalysisKind;
 use crate::engine::declare::{
     BuiltEngine, CounterDef, InId, ParamDefault, ParamKind, Problem, ranges,
 };
@@ -76,7 +75,6 @@ pub static DECLARATION: EngineDef = EngineDef {
         },
     ],
     ratios: &[],
-    analysis: AnalysisKind::Dense,
     example: &[
         ("width_over_diameter", "10"),
         ("span_over_diameter", "5"),
@@ -516,7 +514,7 @@ impl Engine for DemEngine {
         Snapshot {
             progress: Engine::progress(self),
             counters: Counters::from_pairs(self.counter_pairs()),
-            content: Content::Dem(Box::new(sample)),
+            content: Content::Sample(Box::new(sample)),
         }
     }
 

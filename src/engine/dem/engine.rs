@@ -150,6 +150,15 @@ pub struct Sample {
     pub particles: Particles,
 }
 
+impl crate::engine::EngineSample for Sample {
+    fn particles(&self) -> Option<&Particles> {
+        Some(&self.particles)
+    }
+    fn particles_mut(&mut self) -> Option<&mut Particles> {
+        Some(&mut self.particles)
+    }
+}
+
 /// The checkpoint payload: the physical state in canonical form.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 struct Payload {

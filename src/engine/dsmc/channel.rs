@@ -210,6 +210,8 @@ pub struct Sample {
     pub sums: IntervalSums,
 }
 
+impl crate::engine::EngineSample for Sample {}
+
 /// The DSMC channel engine.
 #[derive(Clone, Debug)]
 pub struct DsmcEngine {

@@ -2,7 +2,6 @@
 //! wall models and mixtures; clocks: steps and time) and its [`Engine`] boundary.
 
 use super::{DsmcEngine, DsmcParams, WallModel};
-use crate::analysis::AnalysisKind;
 use crate::engine::declare::{
     BuiltEngine, CounterDef, InId, ParamDefault, ParamKind, Problem, ranges,
 };
@@ -68,7 +67,6 @@ pub static DECLARATION: EngineDef = EngineDef {
         },
     ],
     ratios: &[],
-    analysis: AnalysisKind::Rarefied,
     example: &[],
     example_run: (Clock::Steps, 20_000.0, 2_000.0),
 };
@@ -386,7 +384,7 @@ impl Engine for DsmcEngine {
         Snapshot {
             progress: Engine::progress(self),
             counters: Counters::from_pairs(self.counters()),
-            content: Content::Sampled(Box::new(sample)),
+            content: Content::Sample(Box::new(sample)),
         }
     }
 

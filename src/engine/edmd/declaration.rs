@@ -1,8 +1,7 @@
-//! The EDMD engine's declaration for the registry: its sweep parameters (the thesis channel),
+//! The EDMD engine's declaration: its sweep parameters (the thesis channel),
 //! N from phi, the placeability check, clocks, estimates and counters.
 
 use super::{EdmdEngine, EdmdParams, particles_for_volume_fraction};
-use crate::analysis::AnalysisKind;
 use crate::engine::declare::{
     CounterDef, InId, ParamDefault, ParamKind, Problem, RatioDef, ranges,
 };
@@ -58,7 +57,6 @@ pub static DECLARATION: EngineDef = EngineDef {
         denominator: "pair_collisions",
         doc: "fraction of pair collisions made elastic by the TC model",
     }],
-    analysis: AnalysisKind::Structure,
     example: &[
         ("length_over_width", "3"),
         ("width_over_diameter", "15"),

@@ -3,7 +3,6 @@
 
 use super::state::PAYLOAD_VERSION;
 use super::{LgaEngine, LgaParams};
-use crate::analysis::AnalysisKind;
 use crate::engine::declare::{
     BuiltEngine, CounterDef, InId, ParamDefault, ParamKind, Problem, ranges,
 };
@@ -80,7 +79,6 @@ pub static DECLARATION: EngineDef = EngineDef {
         },
     ],
     ratios: &[],
-    analysis: AnalysisKind::Lattice,
     example: &[],
     example_run: (Clock::Steps, 100_000.0, 10_000.0),
 };
