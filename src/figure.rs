@@ -260,3 +260,16 @@ mod tests {
         assert_eq!(given.css((820, 560)), (400, 560));
     }
 }
+
+/// The colour of a label's marker (the fill of filled markers, the line of open ones); the
+/// per-job figures colour labels the same way.
+pub fn marker_colour(label: &str) -> RGBColor {
+    match label {
+        "plug" | "steady" => RGBColor(31, 119, 180),
+        "s-wave" | "density waves" | "minimum" | "accelerating" => RGBColor(214, 39, 40),
+        "slug" | "s-wave+slug" => RGBColor(44, 160, 44),
+        "wavy-slug" | "mixed" | "maximum" | "jammed" => RGBColor(255, 127, 14),
+        "homogeneous" | "not-steady" | "no waves" | "monotonic" => RGBColor(120, 120, 120),
+        _ => RGBColor(148, 103, 189),
+    }
+}

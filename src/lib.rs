@@ -16,7 +16,8 @@
 //! - [`sweep`]: sweep files, grids, job ids, the resumable queue, tables, phase diagrams.
 //! - [`slurm`]: job arrays on a Slurm cluster running the same job code; status via squeue.
 //! - [`provenance`]: which code made a result (version, commit, engine and analysis versions).
-//! - [`report`]: per-job figures and the one-file HTML report of a sweep.
+//! - [`job_figures`]: a job's figures, one file per analysis.
+//! - [`report`]: the one-file HTML report of a sweep.
 //! - [`cli`]: the command-line front end.
 
 // Loops over the three components (`for d in 0..3 { f[d] += m g[d] }`) and over axes are
@@ -28,6 +29,7 @@ pub mod cli;
 pub mod engine;
 pub mod figure;
 pub mod fs;
+pub mod job_figures;
 pub mod provenance;
 pub mod registry;
 pub mod report;

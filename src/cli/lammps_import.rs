@@ -80,8 +80,8 @@ pub fn run(args: LammpsImportArgs) -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("analysing the dump's {} records: {e}", records.len()))?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("{}: cannot create", args.out.display()))?;
-    let figures = crate::report::job_figures::figures(job, &analysis, &records);
-    let drawn = crate::report::job_figures::write(&args.out, &figures)?;
+    let figures = crate::job_figures::figures(&job.heading(), &analysis, &records);
+    let drawn = crate::job_figures::write(&args.out, &figures)?;
 
     let (first, last) = (&frames[0], &frames[frames.len() - 1]);
     let source = format!(

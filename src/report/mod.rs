@@ -1,20 +1,18 @@
-//! The report of a sweep: per-job figures ([`job_figures`]) and one self-contained HTML file
+//! The report of a sweep: one self-contained HTML file
 //! ([`html`]) with the phase diagram, a sortable table of the jobs and, per job, its
 //! parameters, provenance, figures and structure evolution. Read from the job directories
 //! alone (through the store), so it works while the sweep runs: a running or partial job shows
 //! what the records it has written so far give.
 
 pub mod html;
-pub mod job_figures;
-mod statistics_figures;
 
 use crate::analysis::Analysis;
 use crate::figure::Sizing;
+use crate::job_figures::{self, JobFigure};
 use crate::sweep::phase::{PhaseDiagram, choose_axes, swept_in, title};
 use crate::sweep::store::{self, JobState};
 use crate::sweep::tables::{self, GatheredJob};
 use crate::sweep::{BadInput, Sweep, SweepDirs};
-use job_figures::JobFigure;
 use rayon::prelude::*;
 use std::path::PathBuf;
 
@@ -114,7 +112,7 @@ pub fn view_job<'a>(
     };
     let drawn = analysis
         .as_ref()
-        .map(|a| job_figures::figures(job, a, &records))
+        .map(|a| job_figures::figures(&job.heading(), a, &records))
         .unwrap_or_default();
     if gathered.result.is_some()
         && !job_figures::all_written(&dir, &drawn)

@@ -170,8 +170,8 @@ pub fn run_job(
         .map_err(|e| anyhow::anyhow!("analysing the job's {} records: {e}", records.len()))?;
     // the figures are a view of the result: one that cannot be drawn is logged, not a failed
     // job (a full disk still stops the run, as any other write does)
-    let figures = crate::report::job_figures::figures(job, &analysis, &records);
-    if let Err(e) = crate::report::job_figures::write(dir, &figures) {
+    let figures = crate::job_figures::figures(&job.heading(), &analysis, &records);
+    if let Err(e) = crate::job_figures::write(dir, &figures) {
         if super::fs_error::is_resource_error(&e) {
             return Err(e);
         }

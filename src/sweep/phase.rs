@@ -5,6 +5,7 @@
 use super::tables::GatheredJob;
 use crate::engine::declare::ParamDefault;
 use crate::engine::{EngineDef, ParamValue};
+pub use crate::figure::marker_colour;
 use crate::figure::text::Heading;
 use crate::figure::{Scale, Sizing};
 use plotters::coord::Shift;
@@ -838,19 +839,6 @@ pub fn title(sweep: &super::Sweep, axes: &[&str]) -> Vec<String> {
         ));
     }
     lines
-}
-
-/// The colour of a label's marker (the fill of filled markers, the line of open ones); the
-/// per-job figures colour labels the same way.
-pub fn marker_colour(label: &str) -> RGBColor {
-    match label {
-        "plug" | "steady" => RGBColor(31, 119, 180),
-        "s-wave" | "density waves" | "minimum" | "accelerating" => RGBColor(214, 39, 40),
-        "slug" | "s-wave+slug" => RGBColor(44, 160, 44),
-        "wavy-slug" | "mixed" | "maximum" | "jammed" => RGBColor(255, 127, 14),
-        "homogeneous" | "not-steady" | "no waves" | "monotonic" => RGBColor(120, 120, 120),
-        _ => RGBColor(148, 103, 189),
-    }
 }
 
 /// The marker of a structure label (shape and colour), thesis-like, of radius `r` pixels.

@@ -12,7 +12,7 @@ use granflow::engine::lga::{LgaEngine, LgaParams};
 use granflow::figure::text::width;
 use granflow::figure::ticks::{self, Axis};
 use granflow::figure::{Scale, Sizing};
-use granflow::report::job_figures;
+use granflow::job_figures;
 use granflow::sweep::curves::{CurvePlot, Point, Series};
 use granflow::sweep::phase::{
     Cell, CellJob, DISAGREE, DISAGREE_LEGEND, Frame, PhaseDiagram, fmt_value,
@@ -346,7 +346,7 @@ fn per_job_figures_are_headed_by_the_parameters() {
         let job_dir = dirs.job_dir(&job.id);
         let result = store::read_result(&job_dir).unwrap();
         let records = store::records_so_far(&job_dir).unwrap();
-        let figures = job_figures::figures(job, &result.analysis, &records);
+        let figures = job_figures::figures(&job.heading(), &result.analysis, &records);
         assert!(!figures.is_empty());
         // the figure file of the job is the figure drawn with this heading
         assert_eq!(

@@ -5,7 +5,7 @@
 //! screenshot shows the phase diagram with the markers of its labels.
 
 use crate::common::{BIN, granflow_ok, scratch};
-use granflow::report::job_figures;
+use granflow::job_figures;
 use granflow::sweep::execute::{self, JobEnd};
 use granflow::sweep::phase::{PhaseDiagram, marker_colour};
 use granflow::sweep::{load_sweep, store, tables};
@@ -234,7 +234,7 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
     let done_dir = dirs.job_dir(&sweep.plan[0].id);
     let result = store::read_result(&done_dir).unwrap();
     let records = store::records_so_far(&done_dir).unwrap();
-    let drawn = job_figures::figures(&sweep.plan[0], &result.analysis, &records);
+    let drawn = job_figures::figures(&sweep.plan[0].heading(), &result.analysis, &records);
     assert_eq!(
         drawn.iter().map(|f| f.name).collect::<Vec<_>>(),
         figures.to_vec()

@@ -12,7 +12,7 @@
 //! - `result.ron`: the job's analysis and counters; its presence means done;
 //! - `failed.txt`: the error of a failed job (removed by `--retry-failed`);
 //! - `log.txt`: one line per start ("start" or "resume"), end ("done") or failure, appended;
-//! - `figures/`: the job's figures (`<name>.png` and `.svg`, see `crate::report::job_figures`),
+//! - `figures/`: the job's figures (`<name>.png` and `.svg`, see `crate::job_figures`),
 //!   written when it finishes (and by `granflow report` where they are missing).
 
 use super::grid::PlannedJob;
@@ -44,7 +44,7 @@ pub const RESULT_FILE: &str = "result.ron";
 pub const FAILED_FILE: &str = "failed.txt";
 pub const LOG_FILE: &str = "log.txt";
 pub const RECORDS_FILE: &str = "records.bin";
-pub const FIGURES_DIR: &str = "figures";
+pub use crate::job_figures::FIGURES_DIR;
 
 /// The state of a job as its directory tells it.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,9 +1,9 @@
 //! The panels of a job's statistics figures, in the thesis' layout (Figs. 3.12-3.21,
 //! 4.7-4.20): the wall, shear and centre slabs (the thesis' bins 1, 4 and 13 of 25; for other
 //! slab counts the same fractions of the width), each figure a few panels of curves with a
-//! dashed reference. Drawn by [`super::job_figures`].
+//! dashed reference. Drawn by [`super::structure`].
 
-use super::job_figures::SeriesPanel;
+use super::draw::SeriesPanel;
 use crate::analysis::statistics::Statistics;
 use crate::analysis::statistics::vdf::COMPONENTS;
 
