@@ -14,7 +14,7 @@
 //! snapshots, so their ratios are nearly independent).
 
 use super::SnapshotRecord;
-use super::steady::mean_std;
+use super::steady::{BAND_SIGMAS, SteadyWindow, mean_std};
 
 /// Number of blocks of the batch-means error (the usual 10; fewer when the window has fewer
 /// snapshot intervals).
@@ -122,4 +122,31 @@ pub fn collapse_guard_fractions(records: &[SnapshotRecord]) -> (f64, f64) {
         f64::NAN
     };
     (count, energy)
+}
+
+/// Confirm a plateau with the exact balances (the balances of this module): a window stays steady only
+/// if every balance that could be measured over it is within [`BAND_SIGMAS`] standard errors
+/// of 1 (balances that cannot be measured, e.g. without gravity, do not count).
+pub fn confirm_by_balances(
+    window: SteadyWindow,
+    balances: &[(&str, Option<Balance>)],
+) -> SteadyWindow {
+    if !window.steady {
+        return window;
+    }
+    for (name, b) in balances {
+        if let Some(b) = b
+            && !b.consistent_with_one(BAND_SIGMAS)
+        {
+            return SteadyWindow {
+                steady: false,
+                reason: format!(
+                    "the {name} balance over the window is {:.4} +- {:.4}, not 1 within {BAND_SIGMAS} standard errors",
+                    b.ratio, b.error
+                ),
+                ..window
+            };
+        }
+    }
+    window
 }

@@ -437,7 +437,7 @@ pub fn steady_over(
     if span < window {
         return None;
     }
-    let confirmed = steady::confirm_by_balances(
+    let confirmed = balance::confirm_by_balances(
         plateau,
         &[
             ("momentum", balance::momentum_balance(in_window)),
@@ -563,7 +563,7 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
     let in_window = &records[plateau.start.min(records.len())..];
     let momentum = balance::momentum_balance(in_window);
     let energy_balance = balance::energy_balance(in_window);
-    let window = steady::confirm_by_balances(
+    let window = balance::confirm_by_balances(
         plateau,
         &[("momentum", momentum), ("energy", energy_balance)],
     );

@@ -113,30 +113,3 @@ fn linear_drift(x: &[f64], y: &[f64]) -> (f64, f64) {
     let span = x[n - 1] - x[0];
     (slope * span, sigma / sxx.sqrt() * span.abs())
 }
-
-/// Confirm a plateau with the exact balances ([`super::balance`]): a window stays steady only
-/// if every balance that could be measured over it is within [`BAND_SIGMAS`] standard errors
-/// of 1 (balances that cannot be measured, e.g. without gravity, do not count).
-pub fn confirm_by_balances(
-    window: SteadyWindow,
-    balances: &[(&str, Option<super::balance::Balance>)],
-) -> SteadyWindow {
-    if !window.steady {
-        return window;
-    }
-    for (name, b) in balances {
-        if let Some(b) = b
-            && !b.consistent_with_one(BAND_SIGMAS)
-        {
-            return SteadyWindow {
-                steady: false,
-                reason: format!(
-                    "the {name} balance over the window is {:.4} +- {:.4}, not 1 within {BAND_SIGMAS} standard errors",
-                    b.ratio, b.error
-                ),
-                ..window
-            };
-        }
-    }
-    window
-}

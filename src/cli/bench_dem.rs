@@ -7,7 +7,7 @@
 //! `--lammps-out DIR` also writes the warmed state as a LAMMPS data file and input
 //! (`bench/peers/peers.py lammps-dem` times LAMMPS on it).
 
-use super::bench::{BenchResult, bytes_per_particle, memory_baseline};
+use super::bench_result::{BenchResult, bytes_per_particle, memory_baseline};
 use crate::engine::dem::lammps::{self, ScriptOptions};
 use crate::engine::dem::{DemEngine, DemParams};
 use anyhow::Context;

@@ -3,7 +3,7 @@
 //! run goes on as a job would, a snapshot every tenth of the timed stretch, so that the
 //! automatic neighbour search re-chooses at the same points as in a run.
 
-use super::bench::{BenchResult, SearchChoice};
+use super::bench_result::{BenchResult, SearchChoice};
 use crate::engine::edmd::{EdmdEngine, NeighbourSearch};
 use crate::engine::{Engine, StopAt};
 use anyhow::Context;

@@ -3,6 +3,7 @@
 mod bench;
 mod bench_dem;
 mod bench_job;
+mod bench_result;
 mod completions;
 mod engines;
 mod figure_size;

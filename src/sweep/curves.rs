@@ -210,7 +210,7 @@ impl CurvePlot {
         }
         let columns = numeric_columns(engine);
         if !columns.iter().any(|c| c == y) {
-            let hint = crate::sweep::spec::did_you_mean(y, columns.iter().map(String::as_str))
+            let hint = super::suggest::did_you_mean(y, columns.iter().map(String::as_str))
                 .map(|s| format!(" (did you mean `{s}`?)"))
                 .unwrap_or_default();
             return Err(format!(

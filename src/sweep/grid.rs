@@ -5,11 +5,8 @@
 //! and seeds innermost; then the extra points in file order, each once per seed.
 
 use super::job::{JobId, JobParams};
-use super::phase::{fmt_value, symbol_of};
 use super::spec::{Source, SpecError, SweepSpec, engine_of};
 use crate::engine::{EngineDef, ParamValue, Values};
-use crate::figure::text::Heading;
-use crate::figure::ticks;
 use std::collections::HashMap;
 
 /// One job of a plan.
@@ -24,50 +21,6 @@ pub struct PlannedJob {
     /// the parameters its sweep varies (filled by [`super::load_sweep`]; a job's figures name
     /// them with the chosen values, never as "at their defaults")
     pub swept: Vec<&'static str>,
-}
-
-impl PlannedJob {
-    /// The heading of a job's figures: its engine, seed and id; its parameters by symbol (those
-    /// its sweep varies, those the engine requires or derives, and those away from their
-    /// defaults); then those at their defaults, named as such (a swept parameter whose value is
-    /// its default is not: it was chosen).
-    pub fn heading(&self) -> Heading {
-        let job = self;
-        let def = job.params.def();
-        let (mut set, mut defaults): (Vec<String>, Vec<String>) = (Vec::new(), Vec::new());
-        for d in def.params {
-            let Some(v) = job.params.values.get(d.name) else {
-                continue;
-            };
-            let text = format!("{} = {}", symbol_of(def, d.name), heading_value(v));
-            if d.default.value().as_ref() == Some(v) && !job.swept.contains(&d.name) {
-                defaults.push(text);
-            } else {
-                set.push(text);
-            }
-        }
-        let mut lines = vec![format!(
-            "{}, seed {}, job {}",
-            def.name, job.params.seed, job.id
-        )];
-        if !set.is_empty() {
-            lines.push(set.join(", "));
-        }
-        if !defaults.is_empty() {
-            lines.push(format!("at their defaults: {}", defaults.join(", ")));
-        }
-        Heading { lines }
-    }
-}
-
-/// A parameter value in a heading: as given, or to 4 significant digits when that is long
-/// (a derived value such as phi from N).
-fn heading_value(v: &ParamValue) -> String {
-    let text = fmt_value(v);
-    match v {
-        ParamValue::Number(x) if text.len() > 8 => ticks::short(*x),
-        _ => text,
-    }
 }
 
 /// Where a set of values came from, for error messages.

@@ -26,6 +26,7 @@ pub mod running;
 pub mod select;
 pub mod spec;
 pub mod store;
+mod suggest;
 pub mod tables;
 
 pub use grid::PlannedJob;

@@ -2,11 +2,13 @@
 //! parameters (or a strip for one), printed as a table and drawn as PNG and SVG (plotters):
 //! one marker per structure, hump counts written beside S-wave markers (as thesis Fig. 5.25).
 
+use super::grid::PlannedJob;
 use super::tables::GatheredJob;
 use crate::engine::declare::ParamDefault;
 use crate::engine::{EngineDef, ParamValue};
 pub use crate::figure::marker_colour;
 use crate::figure::text::Heading;
+use crate::figure::ticks;
 use crate::figure::{Scale, Sizing};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -755,6 +757,50 @@ pub fn symbol_of(engine: &EngineDef, name: &str) -> String {
 /// Declarations write "-" (or nothing) for a parameter without a symbol.
 fn has_symbol(symbol: &str) -> bool {
     symbol != "-" && !symbol.is_empty()
+}
+
+impl PlannedJob {
+    /// The heading of a job's figures: its engine, seed and id; its parameters by symbol (those
+    /// its sweep varies, those the engine requires or derives, and those away from their
+    /// defaults); then those at their defaults, named as such (a swept parameter whose value is
+    /// its default is not: it was chosen).
+    pub fn heading(&self) -> Heading {
+        let job = self;
+        let def = job.params.def();
+        let (mut set, mut defaults): (Vec<String>, Vec<String>) = (Vec::new(), Vec::new());
+        for d in def.params {
+            let Some(v) = job.params.values.get(d.name) else {
+                continue;
+            };
+            let text = format!("{} = {}", symbol_of(def, d.name), heading_value(v));
+            if d.default.value().as_ref() == Some(v) && !job.swept.contains(&d.name) {
+                defaults.push(text);
+            } else {
+                set.push(text);
+            }
+        }
+        let mut lines = vec![format!(
+            "{}, seed {}, job {}",
+            def.name, job.params.seed, job.id
+        )];
+        if !set.is_empty() {
+            lines.push(set.join(", "));
+        }
+        if !defaults.is_empty() {
+            lines.push(format!("at their defaults: {}", defaults.join(", ")));
+        }
+        Heading { lines }
+    }
+}
+
+/// A parameter value in a heading: as given, or to 4 significant digits when that is long
+/// (a derived value such as phi from N).
+fn heading_value(v: &ParamValue) -> String {
+    let text = fmt_value(v);
+    match v {
+        ParamValue::Number(x) if text.len() > 8 => ticks::short(*x),
+        _ => text,
+    }
 }
 
 /// The title of a diagram of `sweep` over `axes`: the sweep, its engine, jobs and run length;

@@ -68,7 +68,7 @@ impl RangeCall {
             args,
         };
         if !NAMES.contains(&name) {
-            let hint = crate::sweep::spec::did_you_mean(name, NAMES)
+            let hint = super::suggest::did_you_mean(name, NAMES)
                 .map(|s| format!(" (did you mean `{s}`?)"))
                 .unwrap_or_default();
             return Err(format!(

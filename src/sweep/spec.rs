@@ -4,6 +4,7 @@
 
 use super::job::RunSettings;
 use super::ranges::{RANGE_SYNTAX, RangeCall};
+pub use super::suggest::did_you_mean;
 use crate::engine::declare::ParamKind;
 use crate::engine::{Clock, EngineDef, ParamValue, Values};
 use crate::registry;
@@ -450,19 +451,6 @@ fn hint(code: &ron::Error) -> String {
             .unwrap_or_default(),
         _ => String::new(),
     }
-}
-
-/// The closest of `candidates` to a misspelt `key`, when it is close enough to be a typo.
-pub fn did_you_mean<'a>(
-    key: &str,
-    candidates: impl IntoIterator<Item = &'a str>,
-) -> Option<&'a str> {
-    candidates
-        .into_iter()
-        .map(|c| (strsim::damerau_levenshtein(key, c), c))
-        .filter(|(d, c)| *d <= 2.max(c.len() / 4))
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, c)| c)
 }
 
 /// The engine a spec names (None: unknown, reported by [`validate`]).
