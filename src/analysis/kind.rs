@@ -13,6 +13,21 @@ use crate::engine::{FreePathTally, Snapshot};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
+/// Why an analysis could not be set up, fed or run, by kind (a job decides by it: bad settings
+/// are the sweep's input, the others fail the job). The messages are the analysis' own.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AnalysisError {
+    /// the sweep's `analysis` section does not suit the kind (with the allowed keys or range)
+    #[error("{0}")]
+    Settings(String),
+    /// the snapshot carries nothing this analysis reads (an engine paired with another kind)
+    #[error("{0}")]
+    Content(&'static str),
+    /// the records cannot be analysed (e.g. none holds a sample)
+    #[error("{0}")]
+    Records(String),
+}
+
 /// Which analysis an engine's snapshots feed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AnalysisKind {
@@ -102,7 +117,7 @@ impl AnalysisKind {
 
     /// Parse and check the settings of a sweep's `analysis` section (missing keys take their
     /// defaults; an empty or null section is all defaults).
-    pub fn analyser(self, given: &Value) -> Result<Analyser, String> {
+    pub fn analyser(self, given: &Value) -> Result<Analyser, AnalysisError> {
         let given = match given {
             Value::Null => Value::Object(Map::new()),
             other => other.clone(),
@@ -110,32 +125,34 @@ impl AnalysisKind {
         match self {
             AnalysisKind::Structure => {
                 let s: AnalysisSettings = serde_json::from_value(given).map_err(|e| {
-                    format!("{e}; allowed keys: grid, profile_bins, cell_particles, min_steady_snapshots")
+                    AnalysisError::Settings(format!("{e}; allowed keys: grid, profile_bins, cell_particles, min_steady_snapshots"))
                 })?;
-                s.validate()?;
+                s.validate().map_err(AnalysisError::Settings)?;
                 Ok(Analyser::Structure(s))
             }
             AnalysisKind::Lattice => {
                 let s: LatticeSettings = serde_json::from_value(given).map_err(|e| {
-                    format!("{e}; allowed keys: bin_length, region_bin, segments, fit_min, fit_max, false_alarm, transient_fraction, spacetime_rows, spacetime_periods")
+                    AnalysisError::Settings(format!("{e}; allowed keys: bin_length, region_bin, segments, fit_min, fit_max, false_alarm, transient_fraction, spacetime_rows, spacetime_periods"))
                 })?;
-                s.validate()?;
+                s.validate().map_err(AnalysisError::Settings)?;
                 Ok(Analyser::Lattice(s))
             }
             AnalysisKind::Rarefied => {
                 let s: RarefiedSettings = serde_json::from_value(given).map_err(|e| {
-                    format!("{e}; allowed keys: blocks, min_steady_records, steady_tolerance")
+                    AnalysisError::Settings(format!(
+                        "{e}; allowed keys: blocks, min_steady_records, steady_tolerance"
+                    ))
                 })?;
-                s.validate()?;
+                s.validate().map_err(AnalysisError::Settings)?;
                 Ok(Analyser::Rarefied(s))
             }
             AnalysisKind::Dense => {
                 let s: DenseSettings = serde_json::from_value(given).map_err(|e| {
-                    format!(
+                    AnalysisError::Settings(format!(
                         "{e}; allowed keys: blocks, window_fraction, jam_froude, balance_tolerance"
-                    )
+                    ))
                 })?;
-                s.validate()?;
+                s.validate().map_err(AnalysisError::Settings)?;
                 Ok(Analyser::Dense(s))
             }
         }
@@ -186,6 +203,42 @@ impl AnalysisKind {
                 (name, kind)
             })
             .collect()
+    }
+
+    /// The headline summary columns of this kind, which the report's jobs table shows:
+    /// (column, heading).
+    pub fn key_columns(self) -> &'static [(&'static str, &'static str)] {
+        match self {
+            AnalysisKind::Structure => &[
+                ("label_probability", "p(label)"),
+                ("three_dimensional", "3D"),
+                ("window_start", "window from"),
+                ("window_end", "window to"),
+                ("mean_translational_energy", "E_tr/N"),
+                ("mean_rotational_energy", "E_rot/N"),
+                ("slip_velocity", "u_slip"),
+            ],
+            AnalysisKind::Lattice => &[
+                ("alpha", "alpha"),
+                ("alpha_error", "+-"),
+                ("peak_frequency", "f_peak"),
+                ("wave_velocity", "v_wave"),
+                ("peak_ratio", "P/B peak"),
+            ],
+            AnalysisKind::Rarefied => &[
+                ("flow_rate", "flow rate"),
+                ("flow_rate_error", "+-"),
+                ("centre_temperature", "T_centre"),
+                ("slip_velocity", "u_slip"),
+                ("momentum_balance", "momentum bal."),
+            ],
+            AnalysisKind::Dense => &[
+                ("com_velocity", "u_cm"),
+                ("com_velocity_error", "+-"),
+                ("wall_force_balance", "wall force / weight"),
+                ("wall_force_balance_error", "+-"),
+            ],
+        }
     }
 
     /// The per-job row tables of this kind (each written with a `job_id` column first).
@@ -513,7 +566,7 @@ impl Analyser {
 
     /// The record of one snapshot (without free paths, as snapshot 1: see
     /// [`Analyser::record_with`]).
-    pub fn record(&self, snapshot: &Snapshot) -> Result<Record, String> {
+    pub fn record(&self, snapshot: &Snapshot) -> Result<Record, AnalysisError> {
         self.record_with(snapshot, 1, None)
     }
 
@@ -524,11 +577,13 @@ impl Analyser {
         snapshot: &Snapshot,
         index: u32,
         free_paths: Option<FreePathTally>,
-    ) -> Result<Record, String> {
+    ) -> Result<Record, AnalysisError> {
         match self {
             Analyser::Structure(s) | Analyser::StructureWithStatistics(s, _) => {
                 if snapshot.particles().is_none() {
-                    return Err("the structure analysis needs particles, and this engine's snapshots carry none".into());
+                    return Err(AnalysisError::Content(
+                        "the structure analysis needs particles, and this engine's snapshots carry none",
+                    ));
                 }
                 let structure = super::record_snapshot(snapshot, s);
                 Ok(match self {
@@ -542,9 +597,9 @@ impl Analyser {
                 })
             }
             Analyser::Lattice(s) => {
-                let lattice = snapshot.lattice().ok_or(
+                let lattice = snapshot.lattice().ok_or(AnalysisError::Content(
                     "the lattice analysis needs a lattice, and this engine's snapshots carry none",
-                )?;
+                ))?;
                 Ok(Record::Lattice(super::lattice::record_of(
                     snapshot.progress.steps,
                     lattice,
@@ -552,14 +607,14 @@ impl Analyser {
                 )))
             }
             Analyser::Rarefied(_) => {
-                let sample = snapshot.sample::<crate::engine::dsmc::channel::Sample>().ok_or(
-                    "the rarefied analysis needs sampled moments, and this engine's snapshots carry none",
+                let sample = snapshot.sample::<crate::engine::dsmc::channel::Sample>().ok_or(AnalysisError::Content(
+                    "the rarefied analysis needs sampled moments, and this engine's snapshots carry none")
                 )?;
                 Ok(Record::Rarefied(Box::new(sample.clone())))
             }
             Analyser::Dense(_) => {
-                let sample = snapshot.sample::<crate::engine::dem::Sample>().ok_or(
-                    "the dense analysis needs DEM bin sums, and this engine's snapshots carry none",
+                let sample = snapshot.sample::<crate::engine::dem::Sample>().ok_or(AnalysisError::Content(
+                    "the dense analysis needs DEM bin sums, and this engine's snapshots carry none")
                 )?;
                 Ok(Record::Dense(Box::new(sample.record.clone())))
             }
@@ -568,7 +623,7 @@ impl Analyser {
 
     /// Analyse a job's records (in order of simulated time); records of another kind are
     /// ignored. Err: the records cannot be analysed (e.g. none holds a sample).
-    pub fn analyse(&self, records: &[Record]) -> Result<Analysis, String> {
+    pub fn analyse(&self, records: &[Record]) -> Result<Analysis, AnalysisError> {
         match self {
             Analyser::Structure(s) => {
                 let records: Vec<SnapshotRecord> = records
@@ -620,7 +675,9 @@ impl Analyser {
                         _ => None,
                     })
                     .collect();
-                super::rarefied::analyse(&records, s).map(Analysis::Rarefied)
+                super::rarefied::analyse(&records, s)
+                    .map(Analysis::Rarefied)
+                    .map_err(AnalysisError::Records)
             }
             Analyser::Dense(s) => {
                 let records: Vec<DenseRecord> = records
@@ -755,172 +812,192 @@ impl Analysis {
     /// The rows of one of the kind's tables (cells in the declared column order).
     pub fn rows(&self, table: &str) -> Vec<Vec<Cell>> {
         match self {
-            Analysis::Structure(a) => match table {
-                "spectra" => a
-                    .spectra
-                    .iter()
-                    .map(|r| {
-                        vec![
-                            r.plane.as_str().into(),
-                            r.k1.into(),
-                            r.k2.into(),
-                            r.power.into(),
-                        ]
-                    })
-                    .collect(),
-                "profiles" => {
-                    // the structure's profiles and, with statistics, lambda(y) and Kn(y)
-                    let rows: Vec<super::ProfileRow> = a
-                        .profiles
-                        .iter()
-                        .cloned()
-                        .chain(
-                            a.statistics
-                                .as_deref()
-                                .map_or_else(Vec::new, super::statistics::tables::profile_rows),
-                        )
-                        .collect();
-                    // bins of equal width across W: the centre of bin b of n is (b + 1/2) / n
-                    let bins = |q: &str| {
-                        rows.iter()
-                            .filter(|r| r.quantity == q)
-                            .map(|r| r.bin + 1)
-                            .max()
-                            .unwrap_or(1)
-                    };
-                    rows.iter()
-                        .map(|r| {
-                            vec![
-                                r.quantity.as_str().into(),
-                                r.bin.into(),
-                                ((f64::from(r.bin) + 0.5) / f64::from(bins(&r.quantity))).into(),
-                                r.value.into(),
-                                Cell::Null,
-                            ]
-                        })
-                        .collect()
-                }
-                "evolution" => a
-                    .milestones
-                    .iter()
-                    .map(|m| {
-                        vec![
-                            m.milestone.into(),
-                            m.clock.as_str().into(),
-                            m.collisions_per_particle.into(),
-                            m.time.into(),
-                            m.window_snapshots.into(),
-                            m.structure.as_str().into(),
-                            m.candidate.as_str().into(),
-                            m.probability.into(),
-                            Cell::List(
-                                m.peaks
-                                    .iter()
-                                    .map(|p| {
-                                        vec![
-                                            p.plane.as_str().into(),
-                                            p.k1.into(),
-                                            p.k2.into(),
-                                            p.ratio.into(),
-                                        ]
-                                    })
-                                    .collect(),
-                            ),
-                            m.translational.into(),
-                            m.rotational.into(),
-                        ]
-                    })
-                    .collect(),
-                "energy" => a
-                    .energy
-                    .iter()
-                    .map(|r| {
-                        vec![
-                            r.collisions_per_particle.into(),
-                            r.time.into(),
-                            r.translational.into(),
-                            r.rotational.into(),
-                        ]
-                    })
-                    .collect(),
-                other => a
-                    .statistics
-                    .as_deref()
-                    .map(|s| super::statistics::tables::rows(s, other))
-                    .unwrap_or_default(),
-            },
-            Analysis::Lattice(a) => match table {
-                "spectra" => a
-                    .spectrum
-                    .iter()
-                    .map(|r| {
-                        vec![
-                            r.frequency.into(),
-                            r.period.into(),
-                            r.power.into(),
-                            Cell::Bool(r.fitted),
-                        ]
-                    })
-                    .collect(),
-                "spacetime" => a
-                    .spacetime
-                    .iter()
-                    .map(|r| vec![r.step.into(), r.bin.into(), r.count.into()])
-                    .collect(),
-                _ => Vec::new(),
-            },
-            Analysis::Rarefied(a) => match table {
-                "profiles" => a
-                    .profiles
-                    .iter()
-                    .enumerate()
-                    .flat_map(|(bin, r)| {
-                        // y / W about the centre -> y / W from the wall at y = 0
-                        let coordinate = r.y + 0.5;
-                        r.quantities().map(|(name, value, error)| {
-                            vec![
-                                name.into(),
-                                bin.into(),
-                                coordinate.into(),
-                                value.into(),
-                                error.into(),
-                            ]
-                        })
-                    })
-                    .collect(),
-                _ => Vec::new(),
-            },
-            Analysis::Dense(a) => match table {
-                "profiles" => a
-                    .profiles
-                    .iter()
-                    .map(|r| {
-                        vec![
-                            r.quantity.as_str().into(),
-                            r.bin.into(),
-                            r.coordinate.into(),
-                            r.value.into(),
-                            r.error.into(),
-                        ]
-                    })
-                    .collect(),
-                "series" => a
-                    .series
-                    .iter()
-                    .map(|r| {
-                        vec![
-                            r.time.into(),
-                            r.com_velocity.into(),
-                            r.wall_force_balance.into(),
-                            r.translational_energy.into(),
-                            r.rotational_energy.into(),
-                            r.coordination_number.into(),
-                            Cell::Bool(r.in_window),
-                        ]
-                    })
-                    .collect(),
-                _ => Vec::new(),
-            },
+            Analysis::Structure(a) => structure_rows(a, table),
+            Analysis::Lattice(a) => lattice_rows(a, table),
+            Analysis::Rarefied(a) => rarefied_rows(a, table),
+            Analysis::Dense(a) => dense_rows(a, table),
         }
+    }
+}
+
+/// The rows of one of the structure analysis' tables.
+fn structure_rows(a: &JobAnalysis, table: &str) -> Vec<Vec<Cell>> {
+    match table {
+        "spectra" => a
+            .spectra
+            .iter()
+            .map(|r| {
+                vec![
+                    r.plane.as_str().into(),
+                    r.k1.into(),
+                    r.k2.into(),
+                    r.power.into(),
+                ]
+            })
+            .collect(),
+        "profiles" => {
+            // the structure's profiles and, with statistics, lambda(y) and Kn(y)
+            let rows: Vec<super::ProfileRow> = a
+                .profiles
+                .iter()
+                .cloned()
+                .chain(
+                    a.statistics
+                        .as_deref()
+                        .map_or_else(Vec::new, super::statistics::tables::profile_rows),
+                )
+                .collect();
+            // bins of equal width across W: the centre of bin b of n is (b + 1/2) / n
+            let bins = |q: &str| {
+                rows.iter()
+                    .filter(|r| r.quantity == q)
+                    .map(|r| r.bin + 1)
+                    .max()
+                    .unwrap_or(1)
+            };
+            rows.iter()
+                .map(|r| {
+                    vec![
+                        r.quantity.as_str().into(),
+                        r.bin.into(),
+                        ((f64::from(r.bin) + 0.5) / f64::from(bins(&r.quantity))).into(),
+                        r.value.into(),
+                        Cell::Null,
+                    ]
+                })
+                .collect()
+        }
+        "evolution" => a
+            .milestones
+            .iter()
+            .map(|m| {
+                vec![
+                    m.milestone.into(),
+                    m.clock.as_str().into(),
+                    m.collisions_per_particle.into(),
+                    m.time.into(),
+                    m.window_snapshots.into(),
+                    m.structure.as_str().into(),
+                    m.candidate.as_str().into(),
+                    m.probability.into(),
+                    Cell::List(
+                        m.peaks
+                            .iter()
+                            .map(|p| {
+                                vec![
+                                    p.plane.as_str().into(),
+                                    p.k1.into(),
+                                    p.k2.into(),
+                                    p.ratio.into(),
+                                ]
+                            })
+                            .collect(),
+                    ),
+                    m.translational.into(),
+                    m.rotational.into(),
+                ]
+            })
+            .collect(),
+        "energy" => a
+            .energy
+            .iter()
+            .map(|r| {
+                vec![
+                    r.collisions_per_particle.into(),
+                    r.time.into(),
+                    r.translational.into(),
+                    r.rotational.into(),
+                ]
+            })
+            .collect(),
+        other => a
+            .statistics
+            .as_deref()
+            .map(|s| super::statistics::tables::rows(s, other))
+            .unwrap_or_default(),
+    }
+}
+
+/// The rows of one of the lattice analysis' tables.
+fn lattice_rows(a: &LatticeAnalysis, table: &str) -> Vec<Vec<Cell>> {
+    match table {
+        "spectra" => a
+            .spectrum
+            .iter()
+            .map(|r| {
+                vec![
+                    r.frequency.into(),
+                    r.period.into(),
+                    r.power.into(),
+                    Cell::Bool(r.fitted),
+                ]
+            })
+            .collect(),
+        "spacetime" => a
+            .spacetime
+            .iter()
+            .map(|r| vec![r.step.into(), r.bin.into(), r.count.into()])
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// The rows of one of the rarefied analysis' tables.
+fn rarefied_rows(a: &RarefiedAnalysis, table: &str) -> Vec<Vec<Cell>> {
+    match table {
+        "profiles" => a
+            .profiles
+            .iter()
+            .enumerate()
+            .flat_map(|(bin, r)| {
+                // y / W about the centre -> y / W from the wall at y = 0
+                let coordinate = r.y + 0.5;
+                r.quantities().map(|(name, value, error)| {
+                    vec![
+                        name.into(),
+                        bin.into(),
+                        coordinate.into(),
+                        value.into(),
+                        error.into(),
+                    ]
+                })
+            })
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// The rows of one of the dense analysis' tables.
+fn dense_rows(a: &DenseAnalysis, table: &str) -> Vec<Vec<Cell>> {
+    match table {
+        "profiles" => a
+            .profiles
+            .iter()
+            .map(|r| {
+                vec![
+                    r.quantity.as_str().into(),
+                    r.bin.into(),
+                    r.coordinate.into(),
+                    r.value.into(),
+                    r.error.into(),
+                ]
+            })
+            .collect(),
+        "series" => a
+            .series
+            .iter()
+            .map(|r| {
+                vec![
+                    r.time.into(),
+                    r.com_velocity.into(),
+                    r.wall_force_balance.into(),
+                    r.translational_energy.into(),
+                    r.rotational_energy.into(),
+                    r.coordination_number.into(),
+                    Cell::Bool(r.in_window),
+                ]
+            })
+            .collect(),
+        _ => Vec::new(),
     }
 }

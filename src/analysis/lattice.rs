@@ -635,35 +635,7 @@ pub fn analyse(records: &[LatticeRecord], settings: &LatticeSettings) -> Lattice
     };
     let s = &mut out.summary;
 
-    // bin-density fluctuations against a random arrangement
-    let b = settings.bin_length;
-    let full = if l % b == 0 { nb } else { nb - 1 };
-    let cap = (7 * l * w) as f64;
-    let c = (7 * b * w) as f64;
-    let mut ratios = Vec::new();
-    let mut velocity = 0.0;
-    for r in used {
-        let n: f64 = r.bins.iter().map(|&v| f64::from(v)).sum();
-        if n > 0.0 {
-            velocity += r.momentum[0] as f64 / (2.0 * n);
-        }
-        let q = c / cap;
-        let sigma2 = n * q * (1.0 - q) * (cap - n) / (cap - 1.0);
-        if full >= 2 && sigma2 > 0.0 {
-            let m = r.bins[..full].iter().map(|&v| f64::from(v)).sum::<f64>() / full as f64;
-            let ss: f64 = r.bins[..full]
-                .iter()
-                .map(|&v| (f64::from(v) - m).powi(2))
-                .sum();
-            let s2 = ss / (full - 1) as f64 * (nb - 1).max(1) as f64 / nb as f64;
-            ratios.push(s2 / sigma2);
-        }
-    }
-    s.mean_velocity = velocity / used.len() as f64;
-    if !ratios.is_empty() {
-        s.bin_fluctuation_ratio = ratios.iter().sum::<f64>() / ratios.len() as f64;
-        s.fluctuation_threshold = chi2_ratio_quantile(full - 1, settings.false_alarm);
-    }
+    bin_fluctuations(s, used, settings, (l, w, nb));
 
     // spectrum of the region bin
     let dt = used[1].step.saturating_sub(used[0].step);
@@ -752,6 +724,44 @@ pub fn analyse(records: &[LatticeRecord], settings: &LatticeSettings) -> Lattice
         s.alpha_z_threshold
     );
     finish(out)
+}
+
+/// The bin-density fluctuations against a random arrangement of the same particles (their
+/// ratio and the chi^2 threshold) and the mean velocity, over the records `used`.
+fn bin_fluctuations(
+    s: &mut LatticeSummary,
+    used: &[LatticeRecord],
+    settings: &LatticeSettings,
+    (l, w, nb): (usize, usize, usize),
+) {
+    let b = settings.bin_length;
+    let full = if l % b == 0 { nb } else { nb - 1 };
+    let cap = (7 * l * w) as f64;
+    let c = (7 * b * w) as f64;
+    let mut ratios = Vec::new();
+    let mut velocity = 0.0;
+    for r in used {
+        let n: f64 = r.bins.iter().map(|&v| f64::from(v)).sum();
+        if n > 0.0 {
+            velocity += r.momentum[0] as f64 / (2.0 * n);
+        }
+        let q = c / cap;
+        let sigma2 = n * q * (1.0 - q) * (cap - n) / (cap - 1.0);
+        if full >= 2 && sigma2 > 0.0 {
+            let m = r.bins[..full].iter().map(|&v| f64::from(v)).sum::<f64>() / full as f64;
+            let ss: f64 = r.bins[..full]
+                .iter()
+                .map(|&v| (f64::from(v) - m).powi(2))
+                .sum();
+            let s2 = ss / (full - 1) as f64 * (nb - 1).max(1) as f64 / nb as f64;
+            ratios.push(s2 / sigma2);
+        }
+    }
+    s.mean_velocity = velocity / used.len() as f64;
+    if !ratios.is_empty() {
+        s.bin_fluctuation_ratio = ratios.iter().sum::<f64>() / ratios.len() as f64;
+        s.fluctuation_threshold = chi2_ratio_quantile(full - 1, settings.false_alarm);
+    }
 }
 
 /// The space-time table: every bin at the records of a window at the end of the run. The

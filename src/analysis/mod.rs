@@ -11,7 +11,7 @@
 //! mode lists of the result), [`modes`] (the dominant modes and family peaks), [`snapshot_io`] (XYZ and VTK files), [`milestones`] (the structure at given clock
 //! readings). The definitions, defaults and thresholds are documented in docs/analysis.md.
 
-pub mod balance;
+mod balance;
 pub mod classify;
 pub mod columns;
 pub mod dense;
@@ -21,15 +21,17 @@ pub mod labels;
 pub mod lattice;
 pub mod milestones;
 pub mod modes;
-pub mod profiles;
+mod profiles;
 pub mod rarefied;
 mod report;
-pub mod snapshot_io;
+mod snapshot_io;
 pub mod spectrum;
 pub mod statistics;
 pub mod steady;
 
-pub use kind::{Analyser, Analysis, AnalysisKind, Record, StatisticsSnapshot, StopCheck};
+pub use kind::{
+    Analyser, Analysis, AnalysisError, AnalysisKind, Record, StatisticsSnapshot, StopCheck,
+};
 pub use profiles::BinSums;
 pub use report::MIN_LABEL_RUN;
 pub use snapshot_io::{SnapshotNames, write_vtk_density, write_xyz};
@@ -602,74 +604,14 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
             ));
         }
         if !used.is_empty() {
-            let a = assess(&avg, n, p0);
-            let in_window_verdicts: Vec<classify::Assessment> =
-                verdicts[window.start..].iter().flatten().cloned().collect();
-            let stats = labels::statistics(&in_window_verdicts, &a);
-            summary.dominant_modes = dominant_modes(&avg.xy, n[0], n[1], p0, 5);
-            for (plane, folded) in [&avg.xy, &avg.xz, &avg.yz].into_iter().enumerate() {
-                spectra.extend(spectrum_rows(folded, n, plane));
-            }
-            [
-                summary.significance_transverse,
-                summary.significance_along_flow,
-                summary.significance_antisymmetric,
-                summary.significance_symmetric_rest,
-                summary.significance_spanwise,
-            ] = a.significance;
-            [
-                summary.presence_transverse,
-                summary.presence_along_flow,
-                summary.presence_antisymmetric,
-                summary.presence_symmetric_rest,
-                summary.presence_spanwise,
-            ] = stats.presence;
-            summary.label_probabilities = labels::probabilities_text(&stats.probabilities);
-            summary.candidate_label = labels::label_key(&stats.candidate, stats.humps);
-            summary.label_probability = stats.probability;
-            summary.family_peaks = family_peaks(&a);
-            summary.power_transverse = avg.transverse;
-            summary.power_along_flow = avg.along_flow;
-            summary.power_antisymmetric = avg.antisymmetric;
-            summary.power_symmetric_rest = avg.symmetric_rest;
-            summary.power_spanwise = avg.spanwise;
-            [
-                summary.ratio_transverse,
-                summary.ratio_along_flow,
-                summary.ratio_antisymmetric,
-                summary.ratio_symmetric_rest,
-                summary.ratio_spanwise,
-            ] = a.ratios;
-            [
-                summary.threshold_transverse,
-                summary.threshold_along_flow,
-                summary.threshold_antisymmetric,
-                summary.threshold_symmetric_rest,
-                summary.threshold_spanwise,
-            ] = a.thresholds;
-            summary.antisymmetric_kx = a.antisymmetric_kx;
-            summary.antisymmetric_coherence = a.coherence;
-            if window.steady {
-                summary.label = stats.label.clone();
-                summary.humps = stats.humps;
-                summary.three_dimensional = a.three_dimensional;
-                if stats.label == "mixed" {
-                    notes.push(format!(
-                        "mixed: no label holds in {:.0} % of the snapshots ({}); the families present in most snapshots name \"{}\" ({:.2})",
-                        100.0 * labels::CLEAR_MAJORITY,
-                        summary.label_probabilities,
-                        stats.candidate,
-                        stats.probability
-                    ));
-                }
-            } else {
-                notes.push(format!(
-                    "the final window alone would read \"{}\"{} ({})",
-                    stats.label,
-                    if a.three_dimensional { " (3D)" } else { "" },
-                    summary.label_probabilities
-                ));
-            }
+            spectra = summarise_families(
+                &mut summary,
+                &mut notes,
+                &avg,
+                (n, p0),
+                &verdicts[window.start..],
+                window.steady,
+            );
         }
         summary.noise_level = p0;
         [summary.grid_x, summary.grid_y, summary.grid_z] = q.grid;
@@ -683,6 +625,123 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
     if !window.steady {
         notes.insert(0, format!("not steady: {}", window.reason));
     }
+    summarise_balances(
+        &mut summary,
+        &mut notes,
+        (momentum, energy_balance),
+        in_window,
+    );
+    summary.steady = window.steady;
+    summarise_window(&mut summary, in_window, window.steady);
+    let with_profiles: Vec<&SnapshotRecord> =
+        in_window.iter().filter(|r| !r.profile.is_empty()).collect();
+    let (profiles, slip) = profiles::profiles(&with_profiles);
+    summary.slip_velocity = slip;
+    summary.note = notes.join("; ");
+    JobAnalysis {
+        summary,
+        spectra,
+        profiles,
+        energy,
+        evolution,
+        milestones: settings
+            .milestones
+            .as_ref()
+            .map_or_else(Vec::new, |plan| milestones::milestone_rows(records, plan)),
+        statistics: None,
+    }
+}
+
+/// The window's families and label into the summary: the window-averaged families `avg`
+/// against shot noise `p0` and the per-snapshot verdicts of the window; the spectra rows.
+fn summarise_families(
+    summary: &mut Summary,
+    notes: &mut Vec<String>,
+    avg: &FamilyPowers,
+    (n, p0): ([usize; 3], f64),
+    window_verdicts: &[Option<classify::Assessment>],
+    steady: bool,
+) -> Vec<SpectrumRow> {
+    let a = assess(&avg, n, p0);
+    let in_window_verdicts: Vec<classify::Assessment> =
+        window_verdicts.iter().flatten().cloned().collect();
+    let stats = labels::statistics(&in_window_verdicts, &a);
+    summary.dominant_modes = dominant_modes(&avg.xy, n[0], n[1], p0, 5);
+    let spectra = [&avg.xy, &avg.xz, &avg.yz]
+        .into_iter()
+        .enumerate()
+        .flat_map(|(plane, folded)| spectrum_rows(folded, n, plane))
+        .collect();
+    [
+        summary.significance_transverse,
+        summary.significance_along_flow,
+        summary.significance_antisymmetric,
+        summary.significance_symmetric_rest,
+        summary.significance_spanwise,
+    ] = a.significance;
+    [
+        summary.presence_transverse,
+        summary.presence_along_flow,
+        summary.presence_antisymmetric,
+        summary.presence_symmetric_rest,
+        summary.presence_spanwise,
+    ] = stats.presence;
+    summary.label_probabilities = labels::probabilities_text(&stats.probabilities);
+    summary.candidate_label = labels::label_key(&stats.candidate, stats.humps);
+    summary.label_probability = stats.probability;
+    summary.family_peaks = family_peaks(&a);
+    summary.power_transverse = avg.transverse;
+    summary.power_along_flow = avg.along_flow;
+    summary.power_antisymmetric = avg.antisymmetric;
+    summary.power_symmetric_rest = avg.symmetric_rest;
+    summary.power_spanwise = avg.spanwise;
+    [
+        summary.ratio_transverse,
+        summary.ratio_along_flow,
+        summary.ratio_antisymmetric,
+        summary.ratio_symmetric_rest,
+        summary.ratio_spanwise,
+    ] = a.ratios;
+    [
+        summary.threshold_transverse,
+        summary.threshold_along_flow,
+        summary.threshold_antisymmetric,
+        summary.threshold_symmetric_rest,
+        summary.threshold_spanwise,
+    ] = a.thresholds;
+    summary.antisymmetric_kx = a.antisymmetric_kx;
+    summary.antisymmetric_coherence = a.coherence;
+    if steady {
+        summary.label = stats.label.clone();
+        summary.humps = stats.humps;
+        summary.three_dimensional = a.three_dimensional;
+        if stats.label == "mixed" {
+            notes.push(format!(
+                "mixed: no label holds in {:.0} % of the snapshots ({}); the families present in most snapshots name \"{}\" ({:.2})",
+                100.0 * labels::CLEAR_MAJORITY,
+                summary.label_probabilities,
+                stats.candidate,
+                stats.probability
+            ));
+        }
+    } else {
+        notes.push(format!(
+            "the final window alone would read \"{}\"{} ({})",
+            stats.label,
+            if a.three_dimensional { " (3D)" } else { "" },
+            summary.label_probabilities
+        ));
+    }
+    spectra
+}
+
+/// The window's balances and the collapse guard's share of the dissipation into the summary.
+fn summarise_balances(
+    summary: &mut Summary,
+    notes: &mut Vec<String>,
+    (momentum, energy_balance): (Option<balance::Balance>, Option<balance::Balance>),
+    in_window: &[SnapshotRecord],
+) {
     for (b, (ratio, error)) in [
         (
             momentum,
@@ -718,11 +777,14 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
     } else if unrecorded {
         notes.push("the collapse guard's suppressed dissipation was not recorded".into());
     }
-    summary.steady = window.steady;
+}
+
+/// The window's extent and mean energies into the summary.
+fn summarise_window(summary: &mut Summary, in_window: &[SnapshotRecord], steady: bool) {
     if let (Some(first), Some(last)) = (in_window.first(), in_window.last()) {
         summary.window_start = first.collisions_per_particle;
         summary.window_end = last.collisions_per_particle;
-        if window.steady {
+        if steady {
             summary.steady_start = summary.window_start;
             summary.steady_end = summary.window_end;
             summary.steady_snapshots = in_window.len() as u32;
@@ -735,22 +797,5 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
             / m;
         summary.mean_rotational_energy =
             in_window.iter().map(|r| r.rotational_energy).sum::<f64>() / m;
-    }
-    let with_profiles: Vec<&SnapshotRecord> =
-        in_window.iter().filter(|r| !r.profile.is_empty()).collect();
-    let (profiles, slip) = profiles::profiles(&with_profiles);
-    summary.slip_velocity = slip;
-    summary.note = notes.join("; ");
-    JobAnalysis {
-        summary,
-        spectra,
-        profiles,
-        energy,
-        evolution,
-        milestones: settings
-            .milestones
-            .as_ref()
-            .map_or_else(Vec::new, |plan| milestones::milestone_rows(records, plan)),
-        statistics: None,
     }
 }

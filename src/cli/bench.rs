@@ -479,29 +479,75 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         "--collisions-per-particle must be > 0"
     );
     if let Some(dir) = &args.from_job {
-        let r =
-            super::bench_job::measure(dir, args.search, args.skin, args.collisions_per_particle)?;
-        if args.json {
-            outln!("{}", serde_json::to_string_pretty(&[r])?);
-        } else {
-            outln!(
-                "{}: N = {}, phi = {:.3}: {:.4e} collisions/s, {:.4e} events/s, {:.0} bytes/particle (engine)",
-                r.workload,
-                r.n,
-                r.phi,
-                r.collisions_per_s,
-                r.events_per_s,
-                r.bytes_per_particle
-            );
-        }
-        return Ok(());
+        return run_from_job(dir, &args);
     }
+    let Selection {
+        edmd,
+        lattice,
+        dsmc,
+        dem,
+    } = select(&args)?;
+    anyhow::ensure!(args.site_updates > 0.0, "--site-updates must be > 0");
+    print_header(&args, !dem.is_empty());
+    // several workloads: each in a process of its own
+    anyhow::ensure!(args.moves > 0.0, "--moves must be > 0");
+    anyhow::ensure!(args.threads >= 1, "--threads must be >= 1");
+    anyhow::ensure!(args.dem_steps >= 1, "--dem-steps must be >= 1");
+    let isolate = edmd.len() + lattice.len() + dsmc.len() + dem.len() > 1;
+    anyhow::ensure!(
+        args.lammps_out.is_none() || (dem.len() == 1 && !isolate),
+        "--lammps-out writes one DEM workload: choose one with --workload (DEM workloads: {})",
+        bench_dem::workloads()
+            .iter()
+            .map(|w| w.name)
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let mut results = bench_edmd(&edmd, isolate, &args)?;
+    results.extend(bench_lga(&lattice, isolate, &args)?);
+    results.extend(bench_dsmc(&dsmc, isolate, &args)?);
+    results.extend(bench_dem(&dem, isolate, &args)?);
+    if args.json {
+        outln!("{}", serde_json::to_string_pretty(&results)?);
+    }
+    Ok(())
+}
+
+/// `--from-job`: the EDMD engine of a job's checkpoint, measured as the job would run.
+fn run_from_job(dir: &std::path::Path, args: &BenchArgs) -> anyhow::Result<()> {
+    let r = super::bench_job::measure(dir, args.search, args.skin, args.collisions_per_particle)?;
+    if args.json {
+        outln!("{}", serde_json::to_string_pretty(&[r])?);
+    } else {
+        outln!(
+            "{}: N = {}, phi = {:.3}: {:.4e} collisions/s, {:.4e} events/s, {:.0} bytes/particle (engine)",
+            r.workload,
+            r.n,
+            r.phi,
+            r.collisions_per_s,
+            r.events_per_s,
+            r.bytes_per_particle
+        );
+    }
+    Ok(())
+}
+
+/// The workloads `--workload` selects, by engine (DEM only when named).
+struct Selection {
+    edmd: Vec<Workload>,
+    lattice: Vec<LgaWorkload>,
+    dsmc: Vec<DsmcWorkload>,
+    dem: Vec<DemWorkload>,
+}
+
+/// The workloads `--workload` names; none is an error listing them all.
+fn select(args: &BenchArgs) -> anyhow::Result<Selection> {
     let wanted = |name: &str| {
         args.workload
             .as_ref()
             .is_none_or(|s| name.contains(s.as_str()))
     };
-    let selected: Vec<Workload> = workloads(&args)
+    let selected: Vec<Workload> = workloads(args)
         .into_iter()
         .filter(|w| wanted(w.name))
         .collect();
@@ -523,7 +569,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         !selected.is_empty() || !lattice.is_empty() || !dsmc.is_empty() || !dem.is_empty(),
         "no workload matches {:?}; workloads: {}",
         args.workload.as_deref().unwrap_or(""),
-        workloads(&args)
+        workloads(args)
             .iter()
             .map(|w| w.name)
             .chain(lga_workloads().iter().map(|w| w.name))
@@ -532,9 +578,18 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     );
-    anyhow::ensure!(args.site_updates > 0.0, "--site-updates must be > 0");
+    Ok(Selection {
+        edmd: selected,
+        lattice,
+        dsmc,
+        dem,
+    })
+}
+
+/// The machine line and, for the table, its column titles.
+fn print_header(args: &BenchArgs, dem: bool) {
     // only the DEM workloads run on more than one thread
-    let machine = machine(if dem.is_empty() { 1 } else { args.threads });
+    let machine = machine(if dem { args.threads } else { 1 });
     if args.json {
         eprintln!("machine: {machine}");
     } else {
@@ -549,27 +604,21 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             "bytes/part"
         );
     }
-    // several workloads: each in a process of its own
-    anyhow::ensure!(args.moves > 0.0, "--moves must be > 0");
-    anyhow::ensure!(args.threads >= 1, "--threads must be >= 1");
-    anyhow::ensure!(args.dem_steps >= 1, "--dem-steps must be >= 1");
-    let isolate = selected.len() + lattice.len() + dsmc.len() + dem.len() > 1;
-    anyhow::ensure!(
-        args.lammps_out.is_none() || (dem.len() == 1 && !isolate),
-        "--lammps-out writes one DEM workload: choose one with --workload (DEM workloads: {})",
-        bench_dem::workloads()
-            .iter()
-            .map(|w| w.name)
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+}
+
+/// The EDMD workloads, each line printed as it is measured.
+fn bench_edmd(
+    workloads: &[Workload],
+    isolate: bool,
+    args: &BenchArgs,
+) -> anyhow::Result<Vec<BenchResult>> {
     let mut results = Vec::new();
-    for w in &selected {
+    for w in workloads {
         let search = args.search_for(&w.params);
         let r = if isolate {
-            measure_isolated(w.name, &args)?
+            measure_isolated(w.name, args)?
         } else {
-            measure(w, search, &args)?
+            measure(w, search, args)?
         };
         if !args.json {
             let name = match search.search {
@@ -597,9 +646,19 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         }
         results.push(r);
     }
-    for w in &lattice {
+    Ok(results)
+}
+
+/// The lattice-gas workloads.
+fn bench_lga(
+    workloads: &[LgaWorkload],
+    isolate: bool,
+    args: &BenchArgs,
+) -> anyhow::Result<Vec<BenchResult>> {
+    let mut results = Vec::new();
+    for w in workloads {
         let r = if isolate {
-            measure_isolated(w.name, &args)?
+            measure_isolated(w.name, args)?
         } else {
             measure_lga(w, args.site_updates)?
         };
@@ -617,9 +676,19 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         }
         results.push(r);
     }
-    for w in &dsmc {
+    Ok(results)
+}
+
+/// The DSMC workloads.
+fn bench_dsmc(
+    workloads: &[DsmcWorkload],
+    isolate: bool,
+    args: &BenchArgs,
+) -> anyhow::Result<Vec<BenchResult>> {
+    let mut results = Vec::new();
+    for w in workloads {
         let r = if isolate {
-            measure_isolated(w.name, &args)?
+            measure_isolated(w.name, args)?
         } else {
             measure_dsmc(w, args.moves)?
         };
@@ -637,15 +706,25 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         }
         results.push(r);
     }
-    for w in &dem {
+    Ok(results)
+}
+
+/// The DEM workloads (on `--threads` threads).
+fn bench_dem(
+    workloads: &[DemWorkload],
+    isolate: bool,
+    args: &BenchArgs,
+) -> anyhow::Result<Vec<BenchResult>> {
+    let mut results = Vec::new();
+    for w in workloads {
         let r = if isolate {
-            measure_isolated(w.name, &args)?
+            measure_isolated(w.name, args)?
         } else {
             let options = DemBenchOptions {
                 warmup: args.dem_warmup,
                 steps: args.dem_steps,
                 threads: args.threads,
-                cache: dem_cache(&args),
+                cache: dem_cache(args),
                 lammps_out: args.lammps_out.clone(),
             };
             bench_dem::measure(w, &options)?
@@ -667,8 +746,5 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         }
         results.push(r);
     }
-    if args.json {
-        outln!("{}", serde_json::to_string_pretty(&results)?);
-    }
-    Ok(())
+    Ok(results)
 }

@@ -96,6 +96,21 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
             registry::names()
         ))
     })?;
+    let values = resolve(engine, &given_values(args)?)?;
+    let (clock, length, every) = run_length(args, engine)?;
+    let analyser = analyser(args, engine)?;
+    Ok(Plan {
+        engine,
+        values,
+        clock,
+        length,
+        every,
+        analyser,
+    })
+}
+
+/// The values given, as (key, text, origin): the RON file, the flags, `--set`, in that order.
+fn given_values(args: &SimArgs) -> anyhow::Result<Vec<(String, String, String)>> {
     let mut given: Vec<(String, String, String)> = Vec::new(); // (key, text, origin)
     if let Some(path) = &args.params {
         let text = std::fs::read_to_string(path)
@@ -136,12 +151,21 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
             format!("--set {s}"),
         ));
     }
+    Ok(given)
+}
+
+/// The engine's example values, replaced by those given (each checked, naming its origin),
+/// resolved as a sweep would; the job's memory checked.
+fn resolve(
+    engine: &'static EngineDef,
+    given: &[(String, String, String)],
+) -> anyhow::Result<Values> {
     let mut values = Values::new();
     for (k, v) in engine.example {
         let def = engine.param(k).expect("examples name declared parameters");
         values.insert(k.to_string(), def.parse_text(v).map_err(bad)?);
     }
-    for (key, text, origin) in &given {
+    for (key, text, origin) in given {
         let Some(def) = engine.param(key) else {
             let others = registry::engines_with_param(key, engine.name);
             let hint = did_you_mean(key, engine.params.iter().map(|d| d.name))
@@ -175,6 +199,11 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
         .resolve_values(&values)
         .map_err(|p| bad(format!("{}: {}", p.key, p.message)))?;
     crate::sweep::grid::check_job_memory(engine, &values).map_err(bad)?;
+    Ok(values)
+}
+
+/// The run's clock, length and report interval: as given, else the engine's example run.
+fn run_length(args: &SimArgs, engine: &'static EngineDef) -> anyhow::Result<(Clock, f64, f64)> {
     let lengths = [
         (Clock::CollisionsPerParticle, args.collisions_per_particle),
         (Clock::Steps, args.steps),
@@ -208,6 +237,12 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
             }
         ))
     })?;
+    Ok((clock, length, every))
+}
+
+/// The analysis of the engine's snapshots with `--grid`; `--xyz` and `--vtk` only for
+/// particles.
+fn analyser(args: &SimArgs, engine: &'static EngineDef) -> anyhow::Result<Analyser> {
     let kind = registry::analysis_of(engine);
     let mut settings = kind.default_settings();
     if let Some(g) = &args.grid {
@@ -233,14 +268,7 @@ fn plan(args: &SimArgs) -> anyhow::Result<Plan> {
             }
         }
     }
-    Ok(Plan {
-        engine,
-        values,
-        clock,
-        length,
-        every,
-        analyser,
-    })
+    Ok(analyser)
 }
 
 pub fn run(args: SimArgs) -> anyhow::Result<()> {

@@ -3,12 +3,13 @@
 //! be opened from disk, mailed or archived as one file.
 
 use super::{DiagramView, JobView};
-use crate::analysis::AnalysisKind;
+use crate::engine::EngineDef;
 use crate::sweep::phase::{fmt_value, point_text, swept_in};
 use crate::sweep::store::{self, JobState};
-use crate::sweep::{Sweep, SweepDirs};
+use crate::sweep::{PlannedJob, Sweep, SweepDirs};
 use base64::Engine as _;
 use std::fmt::Write as _;
+use std::path::Path;
 
 /// Escape text for HTML content and attribute values.
 pub fn escape(text: &str) -> String {
@@ -42,41 +43,6 @@ fn png_url(png: &[u8]) -> String {
         "data:image/png;base64,{}",
         base64::engine::general_purpose::STANDARD.encode(png)
     )
-}
-
-/// The summary columns the jobs table shows for an analysis kind: (column, heading).
-fn key_columns(kind: AnalysisKind) -> &'static [(&'static str, &'static str)] {
-    match kind {
-        AnalysisKind::Structure => &[
-            ("label_probability", "p(label)"),
-            ("three_dimensional", "3D"),
-            ("window_start", "window from"),
-            ("window_end", "window to"),
-            ("mean_translational_energy", "E_tr/N"),
-            ("mean_rotational_energy", "E_rot/N"),
-            ("slip_velocity", "u_slip"),
-        ],
-        AnalysisKind::Lattice => &[
-            ("alpha", "alpha"),
-            ("alpha_error", "+-"),
-            ("peak_frequency", "f_peak"),
-            ("wave_velocity", "v_wave"),
-            ("peak_ratio", "P/B peak"),
-        ],
-        AnalysisKind::Rarefied => &[
-            ("flow_rate", "flow rate"),
-            ("flow_rate_error", "+-"),
-            ("centre_temperature", "T_centre"),
-            ("slip_velocity", "u_slip"),
-            ("momentum_balance", "momentum bal."),
-        ],
-        AnalysisKind::Dense => &[
-            ("com_velocity", "u_cm"),
-            ("com_velocity_error", "+-"),
-            ("wall_force_balance", "wall force / weight"),
-            ("wall_force_balance_error", "+-"),
-        ],
-    }
 }
 
 /// A summary value as table text and its sort key (numbers sort as numbers).
@@ -259,7 +225,7 @@ fn jobs_table(h: &mut String, sweep: &Sweep, views: &[JobView]) {
     let engine = sweep.engine();
     let swept = swept_in(sweep);
     let seeds = sweep.spec.seeds.len() > 1;
-    let keys = key_columns(crate::registry::analysis_of(engine));
+    let keys = crate::registry::analysis_of(engine).key_columns();
     h.push_str(
         "<section id=\"jobs\">\n<h2>Jobs</h2>\n<p>Click a column heading to sort by it. \
          Values of running and partial jobs are from their records so far (in italics).</p>\n\
@@ -379,10 +345,21 @@ fn pairs_table(h: &mut String, rows: &[(String, String)]) {
 }
 
 fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
+    let dir = dirs.job_dir(&v.gathered.job.id);
+    job_heading(h, sweep, &dir, v);
+    parameters(h, sweep.engine(), v.gathered.job);
+    provenance(h, &dir, v);
+    analysis_numbers(h, v);
+    job_figures(h, v);
+    structure_evolution(h, v);
+    h.push_str("</section>\n");
+}
+
+/// The job's heading, where it is and how far, and what went wrong.
+fn job_heading(h: &mut String, sweep: &Sweep, dir: &Path, v: &JobView) {
     let engine = sweep.engine();
     let job = v.gathered.job;
     let run = &job.params.run;
-    let dir = dirs.job_dir(&job.id);
     let state = &v.gathered.state;
     let point = point_text(engine, &job.params, &swept_in(sweep));
     let label = v.label();
@@ -432,7 +409,11 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
     for p in &v.problems {
         let _ = writeln!(h, "<p class=\"note\">{}</p>", escape(p));
     }
-    // parameters
+}
+
+/// The job's parameters, seed, run and analysis settings.
+fn parameters(h: &mut String, engine: &EngineDef, job: &PlannedJob) {
+    let run = &job.params.run;
     h.push_str("<h3>Parameters</h3>\n");
     let mut rows: Vec<(String, String)> = engine
         .params
@@ -467,7 +448,13 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
         rows.push(("analysis settings".into(), settings));
     }
     pairs_table(h, &rows);
-    // provenance
+}
+
+/// Which build ran the job, where, when and how fast; for a job without a result, when it
+/// started and who runs it.
+fn provenance(h: &mut String, dir: &Path, v: &JobView) {
+    let job = v.gathered.job;
+    let state = &v.gathered.state;
     h.push_str("<h3>Provenance</h3>\n");
     let mut rows: Vec<(String, String)> = Vec::new();
     if let Some(r) = &v.gathered.result {
@@ -509,17 +496,20 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
     } else {
         rows.push((
             "started".into(),
-            store::first_start(&dir).unwrap_or_else(|| "not yet".into()),
+            store::first_start(dir).unwrap_or_else(|| "not yet".into()),
         ));
         if let Some(holder) = matches!(state, JobState::Running)
-            .then(|| store::holder(&dir))
+            .then(|| store::holder(dir))
             .flatten()
         {
             rows.push(("running on".into(), holder));
         }
     }
     pairs_table(h, &rows);
-    // the analysis
+}
+
+/// The analysis' note and every number of its summary.
+fn analysis_numbers(h: &mut String, v: &JobView) {
     if let Some(a) = &v.analysis {
         let summary = a.summary();
         let note = summary
@@ -538,6 +528,11 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
         pairs_table(h, &rows);
         h.push_str("</details>\n");
     }
+}
+
+/// The job's figures with their captions.
+fn job_figures(h: &mut String, v: &JobView) {
+    let job = v.gathered.job;
     if !v.figures.is_empty() {
         h.push_str("<h3>Figures</h3>\n");
         for (f, picture) in &v.figures {
@@ -552,6 +547,10 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
             );
         }
     }
+}
+
+/// The structure label's changes along the run (structure analysis).
+fn structure_evolution(h: &mut String, v: &JobView) {
     if let Some(crate::analysis::Analysis::Structure(a)) = &v.analysis
         && !a.evolution.is_empty()
     {
@@ -569,5 +568,4 @@ fn job_section(h: &mut String, sweep: &Sweep, dirs: &SweepDirs, v: &JobView) {
         }
         h.push_str("</table>\n");
     }
-    h.push_str("</section>\n");
 }

@@ -4,7 +4,7 @@
 //! alone (through the store), so it works while the sweep runs: a running or partial job shows
 //! what the records it has written so far give.
 
-pub mod html;
+mod html;
 
 use crate::analysis::Analysis;
 use crate::figure::Sizing;

@@ -148,7 +148,7 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
     check_plan_size(spec, engine, src)?;
     let analyser = crate::registry::analysis_of(engine)
         .analyser(&spec.analysis)
-        .map_err(|m| src.error_at(None, "analysis", 0, m))?;
+        .map_err(|m| src.error_at(None, "analysis", 0, m.to_string()))?;
     let analysis = analyser.settings();
     let fixed = &spec.fixed.0;
     let axes: Vec<(&str, &Vec<ParamValue>)> = engine

@@ -468,7 +468,7 @@ impl JobParams {
 
     /// The analysis of this job's engine with the job's settings, the run's milestones and its
     /// statistics, when the run asks for them.
-    pub fn analyser(&self) -> Result<crate::analysis::Analyser, String> {
+    pub fn analyser(&self) -> Result<crate::analysis::Analyser, crate::analysis::AnalysisError> {
         let mut analyser = registry::analysis_of(self.def()).analyser(&self.analysis)?;
         if let crate::analysis::Analyser::Structure(settings) = &mut analyser {
             settings.milestones = self.run.milestone_plan(self.def());

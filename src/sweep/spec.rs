@@ -787,7 +787,7 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             .with_message(message)
     })?;
     if let Err(message) = registry::analysis_of(engine).analyser(&spec.analysis) {
-        return Err(src.error_at(None, "analysis", 0, message));
+        return Err(src.error_at(None, "analysis", 0, message.to_string()));
     }
     let check = |section: &str, name: &str, v: &ParamValue, skip: usize| -> Result<(), SpecError> {
         let Some(def) = engine.param(name) else {

@@ -30,8 +30,8 @@
 //!   ([`q6_region`]); likewise the mean local q6 of the region's bonded particles.
 
 pub mod profiles;
-pub mod regime;
-pub mod zones;
+mod regime;
+mod zones;
 
 use crate::engine::dem::Record;
 use profiles::{BinFields, Geometry, QUANTITIES, Totals, fields, fold};

@@ -23,8 +23,8 @@
 //!
 //! [`DsmcParams::relaxation_steps`]: crate::engine::dsmc::DsmcParams::relaxation_steps
 
-pub mod fields;
-pub mod steady;
+mod fields;
+mod steady;
 
 use crate::engine::dsmc::sampling::{MOMENTS, Moments, moment as mo};
 use crate::engine::dsmc::{Balances, DsmcEngine};

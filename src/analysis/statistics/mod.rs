@@ -43,15 +43,15 @@ macro_rules! row_as_tuple {
 }
 
 pub mod blocks;
-pub mod fluctuations;
-pub mod free_path;
-pub mod orientation;
-pub mod pair_correlation;
-pub mod pairs;
+mod fluctuations;
+mod free_path;
+mod orientation;
+mod pair_correlation;
+mod pairs;
 pub mod tables;
 pub mod vdf;
-pub mod velocity_correlation;
-pub mod walls;
+mod velocity_correlation;
+mod walls;
 
 use super::SnapshotRecord;
 use crate::engine::{Clock, FreePathTally, Particles, Snapshot};

@@ -43,21 +43,21 @@
 
 pub mod bodies;
 pub mod bond_order;
-pub mod contact;
-pub mod contact_lanes;
+mod contact;
+mod contact_lanes;
 mod declaration;
-pub mod domain;
-pub mod engine;
-pub mod forces;
+mod domain;
+mod engine;
+mod forces;
 pub mod imported;
 pub mod lammps;
 pub mod neighbours;
 pub mod params;
-pub mod prepare;
+mod prepare;
 pub mod reference;
 pub mod sampling;
 pub mod scan_lanes;
-pub mod simd;
+mod simd;
 
 pub use bodies::BodyState;
 pub use bond_order::BondSums;

@@ -296,11 +296,18 @@ impl DemParams {
         Ok(())
     }
 
-    /// The checks that do not involve phi-bar (a run from a given state, whose N is its own).
+    /// The checks that do not involve phi-bar (a run from a given state, whose N is its own),
+    /// in this order: the box, the contact law, the neighbour reach, the time stepping.
     pub fn validate_box_and_law(&self) -> Result<(), Problem> {
+        self.check_box()?;
+        self.check_contact_law()?;
+        self.check_reach()?;
+        self.check_stepping()
+    }
+
+    /// The box: every extent >= 3 d_p, the width >= 4 d_p (two wall bins and one inside).
+    fn check_box(&self) -> Result<(), Problem> {
         let bad = |key: &str, msg: String| Err(Problem::new(key, msg));
-        let finite_positive = |v: f64| v.is_finite() && v > 0.0;
-        let d_max = self.max_diameter();
         for (key, v) in [
             ("width_over_diameter", self.width),
             ("span_over_diameter", self.span),
@@ -323,6 +330,13 @@ impl DemParams {
                 ),
             );
         }
+        Ok(())
+    }
+
+    /// The contact law: stiffness, damping, friction and gravity.
+    fn check_contact_law(&self) -> Result<(), Problem> {
+        let bad = |key: &str, msg: String| Err(Problem::new(key, msg));
+        let finite_positive = |v: f64| v.is_finite() && v > 0.0;
         if !finite_positive(self.normal_stiffness) {
             return bad(
                 "normal_stiffness",
@@ -377,6 +391,13 @@ impl DemParams {
                 format!("gravity = {:?} is not finite", self.gravity),
             );
         }
+        Ok(())
+    }
+
+    /// The neighbour skin, and the box against the minimum image of the largest reach.
+    fn check_reach(&self) -> Result<(), Problem> {
+        let bad = |key: &str, msg: String| Err(Problem::new(key, msg));
+        let d_max = self.max_diameter();
         if !(self.skin.is_finite() && self.skin > 0.0 && self.skin <= 1.0) {
             return bad(
                 "skin",
@@ -402,6 +423,12 @@ impl DemParams {
                 );
             }
         }
+        Ok(())
+    }
+
+    /// Sampling and the time step: no overdamped contact, each contact resolved by enough steps.
+    fn check_stepping(&self) -> Result<(), Problem> {
+        let bad = |key: &str, msg: String| Err(Problem::new(key, msg));
         if self.sample_every == 0 {
             return bad(
                 "sample_every",

@@ -16,9 +16,9 @@ pub mod channel;
 mod declaration;
 pub mod homogeneous;
 pub mod kernel;
-pub mod params;
+mod params;
 pub mod sampling;
-pub mod walls;
+mod walls;
 
 pub use channel::{DsmcChecks, DsmcCounters, DsmcEngine, Sample, Simulator};
 pub use declaration::{DECLARATION, WALL_MODELS, params_of};

@@ -49,8 +49,8 @@
 
 mod declaration;
 pub mod kernel;
-pub mod params;
-pub mod reference;
+mod params;
+mod reference;
 pub mod rng;
 pub mod rules;
 pub mod state;
