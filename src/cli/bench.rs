@@ -313,6 +313,13 @@ fn workloads(args: &BenchArgs) -> Vec<Workload> {
             warmup: melt,
         },
         Workload {
+            // a box whose engine state (~200 MB) is far beyond the last-level cache:
+            // 4 x 64^3 spheres
+            name: "periodic-fcc-1M-phi0.15",
+            params: periodic_fcc(1_048_576, 0.15),
+            warmup: melt,
+        },
+        Workload {
             // the thesis channel: L/W = 3, W/d = H/d = 30, phi = 0.15, e = 0.7, beta = 0.1,
             // e_w = beta_w = 0.99
             name: "channel-thesis-LW3-W30",

@@ -7,6 +7,7 @@
 //! Along a wall axis (y in the channel) the cells cover only the reachable centre positions
 //! [a, W - a]: leaving an edge cell through its outer face is a wall collision.
 
+use super::huge::HugeArray;
 use super::images::Image;
 use crate::engine::prefetch::prefetch_at;
 use std::mem::MaybeUninit;
@@ -163,16 +164,16 @@ pub struct CellGrid {
     /// per axis and cell coordinate: the neighbouring cells along that axis
     steps: [Vec<AxisSteps>; 3],
     /// first particle of each cell, or EMPTY
-    head: Vec<u32>,
+    head: HugeArray<u32>,
     /// next particle in the same cell, or EMPTY
-    next: Vec<u32>,
+    next: HugeArray<u32>,
     /// previous particle in the same cell, or EMPTY (removal in O(1))
-    prev: Vec<u32>,
+    prev: HugeArray<u32>,
     /// flat cell of each particle (u32::MAX: in none)
-    cell_of_particle: Vec<u32>,
+    cell_of_particle: HugeArray<u32>,
     /// cell coordinates of each particle (kept beside the flat index: every event asks for
     /// them, and a flat index only gives them back by division)
-    coords_of_particle: Vec<[u32; 3]>,
+    coords_of_particle: HugeArray<[u32; 3]>,
     /// per axis and cell coordinate: the cell's lower and upper face (`AxisCells::faces`)
     faces: [Vec<(f64, f64)>; 3],
     /// whether a walk prefetches the heads before reading them: only for grids whose heads
@@ -227,11 +228,11 @@ impl CellGrid {
         CellGrid {
             axes,
             steps,
-            head: vec![EMPTY; cells],
-            next: vec![EMPTY; particles],
-            prev: vec![EMPTY; particles],
-            cell_of_particle: vec![u32::MAX; particles],
-            coords_of_particle: vec![[u32::MAX; 3]; particles],
+            head: HugeArray::new(cells, EMPTY),
+            next: HugeArray::new(particles, EMPTY),
+            prev: HugeArray::new(particles, EMPTY),
+            cell_of_particle: HugeArray::new(particles, u32::MAX),
+            coords_of_particle: HugeArray::new(particles, [u32::MAX; 3]),
             faces: std::array::from_fn(|a| (0..axes[a].count).map(|c| axes[a].faces(c)).collect()),
             prefetch_heads: cells * std::mem::size_of::<u32>() > Self::HEADS_IN_CACHE,
             count_x: StrengthReducedU32::new(axes[0].count as u32),

@@ -5,7 +5,8 @@
 //! - [`motion`]: free flight under gravity and meeting times (when it happens).
 //! - [`cells`], [`neighbours`], [`queue`]: the fast data structures (with a reference queue
 //!   for tests); `images` (periodic image codes), `search` (the buffers that keep candidates
-//!   without a branch) and `prefetch` (cache hints) serve them.
+//!   without a branch), `huge` (large arrays on huge pages) and `prefetch` (cache hints)
+//!   serve them.
 //! - [`setup`]: placement and initial velocities; [`checkpoint`]: the file format.
 //! - [`EdmdEngine`] (`engine/`): the struct and its construction (`mod.rs`), `rebuild`,
 //!   `cell_search` and `list_search` (event prediction; `lanes`: the contact test's first pass
@@ -18,6 +19,7 @@ pub mod checkpoint;
 pub mod collision;
 mod declaration;
 mod engine;
+mod huge;
 mod images;
 pub mod motion;
 pub mod neighbours;

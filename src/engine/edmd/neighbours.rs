@@ -8,6 +8,7 @@
 //! its entries): a particle's whole list is one or two cache lines, and nothing is allocated
 //! per event. The stride doubles when a list overflows (rare; deterministic in the state).
 
+use super::huge::HugeArray;
 pub use super::images::Image;
 use crate::engine::prefetch::prefetch_at;
 
@@ -50,7 +51,7 @@ impl Neighbour {
 pub struct NeighbourLists {
     /// words per particle: the length, then up to stride - 1 entries
     stride: usize,
-    words: Vec<u32>,
+    words: HugeArray<u32>,
 }
 
 impl NeighbourLists {
@@ -65,7 +66,7 @@ impl NeighbourLists {
         );
         NeighbourLists {
             stride: Self::INITIAL_STRIDE,
-            words: vec![0; particles * Self::INITIAL_STRIDE],
+            words: HugeArray::new(particles * Self::INITIAL_STRIDE, 0),
         }
     }
 
@@ -185,7 +186,7 @@ impl NeighbourLists {
     fn grow(&mut self) {
         let n = self.len();
         let stride = 2 * self.stride;
-        let mut words = vec![0; n * stride];
+        let mut words = HugeArray::new(n * stride, 0);
         for i in 0..n {
             let old = &self.words[i * self.stride..(i + 1) * self.stride];
             words[i * stride..i * stride + self.stride].copy_from_slice(old);

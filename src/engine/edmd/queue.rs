@@ -13,6 +13,7 @@
 //! simple version (a B-tree) that tests check both against. All pop in exactly the same
 //! order: ties in time go to the smaller index.
 
+use super::huge::HugeArray;
 use crate::engine::prefetch::prefetch_at;
 use std::collections::BTreeSet;
 
@@ -114,11 +115,11 @@ impl Node {
 #[derive(Clone, Debug)]
 pub struct CalendarQueue {
     /// each particle's entry (one record, so that scheduling touches one cache line)
-    node: Vec<Node>,
+    node: HugeArray<Node>,
     /// each particle's list links
-    links: Vec<Link>,
+    links: HugeArray<Link>,
     /// first particle of each bucket's list
-    bucket_head: Vec<u32>,
+    bucket_head: HugeArray<u32>,
     overflow_head: u32,
     /// binary heap of the current bucket, by particle; `heap_index` is each one's position
     heap: Vec<u32>,
@@ -145,15 +146,15 @@ impl CalendarQueue {
         let inverse_width = 1.0 / width;
         let current = (now * inverse_width).floor() as i64;
         CalendarQueue {
-            node: vec![Node::EMPTY; particles],
-            links: vec![
+            node: HugeArray::new(particles, Node::EMPTY),
+            links: HugeArray::new(
+                particles,
                 Link {
                     next: NIL,
-                    prev: NIL
-                };
-                particles
-            ],
-            bucket_head: vec![NIL; buckets.next_power_of_two()],
+                    prev: NIL,
+                },
+            ),
+            bucket_head: HugeArray::new(buckets.next_power_of_two(), NIL),
             overflow_head: NIL,
             heap: Vec::with_capacity(64),
             width,

@@ -7,6 +7,7 @@ use super::EdmdParams;
 use super::cells::{AxisCells, CellGrid, Neighbourhood};
 use super::checkpoint::{self, EdmdCounters, EngineState};
 use super::collision::{self, ContactLaw, SphereVelocity};
+use super::huge::HugeArray;
 use super::images::ImageShifts;
 use super::motion::{fly, linear_exit_time_within, parabolic_exit_time};
 use super::neighbours::{Image, Neighbour, NeighbourLists};
@@ -142,15 +143,15 @@ pub struct EdmdEngine {
     wall_law: ContactLaw,
     /// current simulated time (time of the last event, or of the last stop)
     now: f64,
-    kin: Vec<Kinematics>,
+    kin: HugeArray<Kinematics>,
     /// particle id of each storage slot (slots are re-sorted by cell at every rebuild)
-    ids: Vec<u32>,
+    ids: HugeArray<u32>,
     /// w, angular velocities (constant between collisions)
-    angular: Vec<[f64; 3]>,
+    angular: HugeArray<[f64; 3]>,
     /// time of each particle's last collision (pair or wall), for the TC model
-    last_collision: Vec<f64>,
+    last_collision: HugeArray<f64>,
     /// scheduled event and pair candidate of each particle (one record: one cache miss)
-    plan: Vec<Plan>,
+    plan: HugeArray<Plan>,
     queue: EngineQueue,
     /// how partners are found (cell lists, or neighbour lists: then the cells hold anchors)
     /// and whether rebuilds re-choose it
@@ -158,7 +159,7 @@ pub struct EdmdEngine {
     /// symmetric neighbour lists (list search only)
     lists: NeighbourLists,
     /// centre of each particle's neighbour list, in the grid frame (list search only)
-    anchors: Vec<[f64; 3]>,
+    anchors: HugeArray<[f64; 3]>,
     /// neighbours found by a list renewal (reused: no allocation per event)
     scratch: Vec<Neighbour>,
     /// shift vector of each periodic image (box lengths along the periodic axes)
@@ -278,14 +279,12 @@ impl EdmdEngine {
         let ext = g.extents();
         let periodic = [true, !g.walls, true];
         let image_shifts = ImageShifts::new(ext, periodic);
-        let kin = (0..n)
-            .map(|i| Kinematics {
-                position: state.positions[i],
-                velocity: state.velocities[i],
-                time: state.now,
-                collisions: 0,
-            })
-            .collect();
+        let kin = HugeArray::from_fn(n, |i| Kinematics {
+            position: state.positions[i],
+            velocity: state.velocities[i],
+            time: state.now,
+            collisions: 0,
+        });
         let mut engine = EdmdEngine {
             pair_law: ContactLaw {
                 restitution: p.restitution,
@@ -299,14 +298,14 @@ impl EdmdEngine {
             },
             now: state.now,
             kin,
-            ids: (0..n as u32).collect(),
-            angular: state.angular_velocities,
-            last_collision: state.last_collision,
-            plan: vec![Plan::NONE; n],
+            ids: HugeArray::from_fn(n, |i| i as u32),
+            angular: state.angular_velocities.into_iter().collect(),
+            last_collision: state.last_collision.into_iter().collect(),
+            plan: HugeArray::new(n, Plan::NONE),
             queue: EngineQueue::new(n, 1, 1.0, state.now),
             policy: state.search,
             lists: lists_for(search, n),
-            anchors: Vec::new(),
+            anchors: HugeArray::default(),
             scratch: Vec::new(),
             image_shifts,
             cells: CellGrid::new(axes, n),
@@ -352,7 +351,7 @@ impl EdmdEngine {
             + std::mem::size_of::<Plan>()
             + std::mem::size_of::<u32>()
             + self.queue.bytes_per_particle();
-        let lists = self.lists.bytes() + std::mem::size_of_val(self.anchors.as_slice());
+        let lists = self.lists.bytes() + std::mem::size_of_val(&self.anchors[..]);
         (per * n + self.cells.bytes() + lists) as f64 / n as f64
     }
     fn collisions_per_particle(&self) -> f64 {

@@ -2,6 +2,7 @@
 //! particle to a given time.
 
 use super::*;
+use crate::engine::edmd::huge::permute;
 
 impl EdmdEngine {
     /// Bring every particle to the current time, wrap positions into the box, set the grid
@@ -32,25 +33,38 @@ impl EdmdEngine {
         let policy = self.policy.next(&self.counters, n);
         if policy.search != self.policy.search {
             self.lists = lists_for(policy.search, n);
-            self.anchors.clear();
+            self.anchors = HugeArray::default();
         }
         self.policy = policy;
         // store particles in cell order (ties by particle id, so the order depends on the
         // state alone): the partners a search reads then sit close together in memory
         let axes = grid_axes(&self.params.geometry, policy.search);
         self.cells = CellGrid::new(axes, n);
-        let cell_of: Vec<usize> = (0..n)
-            .map(|s| self.cells.index(self.cells.locate(self.kin[s].position)))
+        // sorted as keys (cell << 32 | id), then each array rearranged in place
+        let mut keys: Vec<u64> = (0..n)
+            .map(|s| {
+                let cell = self.cells.index(self.cells.locate(self.kin[s].position));
+                (cell as u64) << 32 | self.ids[s] as u64
+            })
             .collect();
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_unstable_by_key(|&s| (cell_of[s], self.ids[s]));
-        self.kin = order.iter().map(|&s| self.kin[s]).collect();
-        self.angular = order.iter().map(|&s| self.angular[s]).collect();
-        self.last_collision = order.iter().map(|&s| self.last_collision[s]).collect();
-        self.ids = order.iter().map(|&s| self.ids[s]).collect();
+        keys.sort_unstable();
+        let mut slot_of_id = vec![0u32; n];
+        for (s, &id) in self.ids.iter().enumerate() {
+            slot_of_id[id as usize] = s as u32;
+        }
+        let from: Vec<u32> = keys
+            .iter()
+            .map(|&k| slot_of_id[k as u32 as usize])
+            .collect();
+        drop(slot_of_id);
+        permute(&mut self.kin, &from);
+        permute(&mut self.angular, &from);
+        permute(&mut self.last_collision, &from);
+        drop(from);
         // inserted last to first, so that each cell lists its particles in storage order
-        for (slot, &s) in order.iter().enumerate().rev() {
-            self.cells.insert(slot as u32, cell_of[s]);
+        for (slot, &key) in keys.iter().enumerate().rev() {
+            self.ids[slot] = key as u32;
+            self.cells.insert(slot as u32, (key >> 32) as usize);
         }
         if self.uses_lists() {
             self.build_all_lists();
