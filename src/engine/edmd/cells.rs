@@ -1,8 +1,13 @@
 //! Cell lists: the box divided into cells of side >= d, each holding the particles whose
 //! centres it contains, so that a particle's collision partners lie in its own and the 26
-//! adjacent cells. Each cell is a doubly linked list threaded through per-particle arrays
+//! adjacent cells. Each cell is a singly linked list threaded through one per-particle array
 //! (no allocation per event; 4 bytes per cell, so the heads of a neighbourhood share a few
-//! cache lines even at low density, where most cells are empty).
+//! cache lines even at low density, where most cells are empty). The grid does not store
+//! which cell a particle is in: its owner keeps that beside the particle's other data (one
+//! cache line per particle instead of four in a large system), and names it when it moves or
+//! takes out a particle. Removal walks the cell's list to the particle (cells hold about one
+//! particle at phi = 0.15 and a few in dense flows), which costs less than keeping the
+//! back links up to date.
 //!
 //! Along a wall axis (y in the channel) the cells cover only the reachable centre positions
 //! [a, W - a]: leaving an edge cell through its outer face is a wall collision.
@@ -167,13 +172,6 @@ pub struct CellGrid {
     head: HugeArray<u32>,
     /// next particle in the same cell, or EMPTY
     next: HugeArray<u32>,
-    /// previous particle in the same cell, or EMPTY (removal in O(1))
-    prev: HugeArray<u32>,
-    /// flat cell of each particle (u32::MAX: in none)
-    cell_of_particle: HugeArray<u32>,
-    /// cell coordinates of each particle (kept beside the flat index: every event asks for
-    /// them, and a flat index only gives them back by division)
-    coords_of_particle: HugeArray<[u32; 3]>,
     /// per axis and cell coordinate: the cell's lower and upper face (`AxisCells::faces`)
     faces: [Vec<(f64, f64)>; 3],
     /// whether a walk prefetches the heads before reading them: only for grids whose heads
@@ -230,9 +228,6 @@ impl CellGrid {
             steps,
             head: HugeArray::new(cells, EMPTY),
             next: HugeArray::new(particles, EMPTY),
-            prev: HugeArray::new(particles, EMPTY),
-            cell_of_particle: HugeArray::new(particles, u32::MAX),
-            coords_of_particle: HugeArray::new(particles, [u32::MAX; 3]),
             faces: std::array::from_fn(|a| (0..axes[a].count).map(|c| axes[a].faces(c)).collect()),
             prefetch_heads: cells * std::mem::size_of::<u32>() > Self::HEADS_IN_CACHE,
             count_x: StrengthReducedU32::new(axes[0].count as u32),
@@ -275,14 +270,9 @@ impl CellGrid {
         self.around_coords(self.coords(cell))
     }
 
-    /// The 27 cells around particle `id`'s cell (fewer past a wall).
+    /// The 27 cells around the cell at `coords` (fewer past a wall).
     #[inline(always)]
-    pub fn around_particle(&self, id: u32) -> Neighbourhood {
-        self.around_coords(self.coords_of(id))
-    }
-
-    #[inline(always)]
-    fn around_coords(&self, coords: [usize; 3]) -> Neighbourhood {
+    pub fn around_coords(&self, coords: [usize; 3]) -> Neighbourhood {
         let mut hood = Neighbourhood {
             parts: [[(0, 0); 3]; 3],
             counts: [0; 3],
@@ -302,14 +292,9 @@ impl CellGrid {
         self.entered_at(self.coords(cell), axis, upper)
     }
 
-    /// `entered` for the cell that particle `id` has just entered.
+    /// `entered` for the cell at `coords`.
     #[inline(always)]
-    pub fn entered_by(&self, id: u32, axis: usize, upper: bool) -> Neighbourhood {
-        self.entered_at(self.coords_of(id), axis, upper)
-    }
-
-    #[inline(always)]
-    fn entered_at(&self, coords: [usize; 3], axis: usize, upper: bool) -> Neighbourhood {
+    pub fn entered_at(&self, coords: [usize; 3], axis: usize, upper: bool) -> Neighbourhood {
         let mut hood = self.around_coords(coords);
         let steps = &self.steps[axis][coords[axis]];
         match if upper { steps.upper } else { steps.lower } {
@@ -320,18 +305,6 @@ impl CellGrid {
             None => hood.counts[axis] = 0,
         }
         hood
-    }
-
-    /// Flat cell of particle `id`.
-    #[inline(always)]
-    pub fn cell_of(&self, id: u32) -> usize {
-        self.cell_of_particle[id as usize] as usize
-    }
-
-    /// Cell coordinates of particle `id` (in a cell).
-    #[inline(always)]
-    pub fn coords_of(&self, id: u32) -> [usize; 3] {
-        self.coords_of_particle[id as usize].map(|c| c as usize)
     }
 
     /// Lower and upper face along `axis` of the cells at coordinate `c` (as
@@ -452,47 +425,35 @@ impl CellGrid {
     }
 
     /// Put particle `id` (in no cell) at the front of flat cell `cell`.
-    pub fn insert(&mut self, id: u32, cell: usize) {
-        let first = self.head[cell];
-        self.next[id as usize] = first;
-        self.prev[id as usize] = EMPTY;
-        if first != EMPTY {
-            self.prev[first as usize] = id;
-        }
-        self.head[cell] = id;
-        self.cell_of_particle[id as usize] = cell as u32;
-        self.coords_of_particle[id as usize] = self.coords(cell).map(|c| c as u32);
-    }
-
-    /// Take particle `id` out of its cell.
-    pub fn remove(&mut self, id: u32) {
-        let cell = self.cell_of_particle[id as usize] as usize;
-        let (before, after) = (self.prev[id as usize], self.next[id as usize]);
-        if before == EMPTY {
-            self.head[cell] = after;
-        } else {
-            self.next[before as usize] = after;
-        }
-        if after != EMPTY {
-            self.prev[after as usize] = before;
-        }
-        self.cell_of_particle[id as usize] = u32::MAX;
-        self.coords_of_particle[id as usize] = [u32::MAX; 3];
-    }
-
-    /// Move particle `id` to flat cell `cell`.
     #[inline]
-    pub fn relocate(&mut self, id: u32, cell: usize) {
-        self.remove(id);
-        self.insert(id, cell);
+    pub fn insert(&mut self, id: u32, cell: usize) {
+        self.next[id as usize] = std::mem::replace(&mut self.head[cell], id);
+    }
+
+    /// Take particle `id` out of flat cell `cell`, which holds it.
+    #[inline]
+    pub fn remove(&mut self, id: u32, cell: usize) {
+        let after = self.next[id as usize];
+        let mut link = &mut self.head[cell];
+        while *link != id {
+            assert!(*link != EMPTY, "particle {id} is not in cell {cell}");
+            let j = *link as usize;
+            link = &mut self.next[j];
+        }
+        *link = after;
+    }
+
+    /// Move particle `id` from flat cell `from` to flat cell `to`.
+    #[inline]
+    pub fn relocate(&mut self, id: u32, from: usize, to: usize) {
+        self.remove(id, from);
+        self.insert(id, to);
     }
 
     /// Memory used, in bytes.
     pub fn bytes(&self) -> usize {
         let faces: usize = self.faces.iter().map(Vec::len).sum();
-        4 * (self.head.len() + 3 * self.next.len())
-            + std::mem::size_of::<[u32; 3]>() * self.coords_of_particle.len()
-            + std::mem::size_of::<(f64, f64)>() * faces
+        4 * (self.head.len() + self.next.len()) + std::mem::size_of::<(f64, f64)>() * faces
     }
 }
 
@@ -616,8 +577,8 @@ mod tests {
                         .sum();
                     d2 < reach * reach
                 };
-                let coords = grid.coords_of(id as u32);
-                let hood = grid.around_particle(id as u32);
+                let coords = grid.locate(p);
+                let hood = grid.around_coords(coords);
                 let (mut all, mut within) = (Vec::new(), Vec::new());
                 grid.walk(&hood, |_| {}, |j, image| all.push((j, image)));
                 let slabs = grid.slab_distances(coords, p);
@@ -666,14 +627,12 @@ mod tests {
                 Some(old) => {
                     reference[old].retain(|&m| m != id);
                     if rng.random::<f64>() < 0.3 {
-                        grid.remove(id);
+                        grid.remove(id, old);
                         located[id as usize] = None;
                     } else {
-                        grid.relocate(id, cell);
+                        grid.relocate(id, old, cell);
                         reference[cell].push(id);
                         located[id as usize] = Some(cell);
-                        assert_eq!(grid.cell_of(id), cell);
-                        assert_eq!(grid.coords_of(id), grid.coords(cell), "stored coordinates");
                     }
                 }
             }

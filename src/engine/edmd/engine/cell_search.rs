@@ -15,15 +15,23 @@ impl EdmdEngine {
         if self.uses_lists() {
             return self.predict_from_list(i);
         }
-        let around = self.cells.around_particle(i as u32);
+        let coords = self.cells.coords(self.kin[i].cell as usize);
+        let around = self.cells.around_coords(coords);
         self.plan[i].candidate = self.scan_cells(i, &around, f64::INFINITY);
-        self.choose_event(i)
+        self.choose_event(i, coords)
     }
 
-    /// Event of particle `i` right after it crossed into a new cell along `axis`: its velocity
-    /// is unchanged, so the pair candidate of its last full search still holds if the partner
-    /// has not collided since; only the layer of cells that just became adjacent is searched.
-    pub(super) fn predict_after_crossing(&mut self, i: usize, axis: usize, upper: bool) -> f64 {
+    /// Event of particle `i` right after it crossed into the cell at `coords` along `axis`: its
+    /// velocity is unchanged, so the pair candidate of its last full search still holds if the
+    /// partner has not collided since; only the layer of cells that just became adjacent is
+    /// searched.
+    pub(super) fn predict_after_crossing(
+        &mut self,
+        i: usize,
+        coords: [usize; 3],
+        axis: usize,
+        upper: bool,
+    ) -> f64 {
         let candidate = self.plan[i].candidate;
         let still_valid = match candidate.partner {
             NO_PARTNER => true,
@@ -32,18 +40,18 @@ impl EdmdEngine {
         if !still_valid {
             return self.predict(i);
         }
-        let entered = self.cells.entered_by(i as u32, axis, upper);
+        let entered = self.cells.entered_at(coords, axis, upper);
         let found = self.scan_cells(i, &entered, candidate.time);
         if found.time < candidate.time {
             self.plan[i].candidate = found;
         }
-        self.choose_event(i)
+        self.choose_event(i, coords)
     }
 
-    /// The earlier of particle `i`'s cell exit (or wall hit) and its pair candidate: stored as
-    /// its event, time returned.
-    pub(super) fn choose_event(&mut self, i: usize) -> f64 {
-        let (exit_time, exit_kind) = self.exit_event(i);
+    /// The earlier of particle `i`'s exit from its cell (at `coords`) or wall hit and its pair
+    /// candidate: stored as its event, time returned.
+    pub(super) fn choose_event(&mut self, i: usize, coords: [usize; 3]) -> f64 {
+        let (exit_time, exit_kind) = self.exit_event(i, coords);
         let candidate = self.plan[i].candidate;
         let pair = EventKind::Pair {
             partner: candidate.partner,
@@ -55,12 +63,12 @@ impl EdmdEngine {
         if collides { candidate.time } else { exit_time }
     }
 
-    /// When and how particle `i` (at `now`) leaves its cell; the outer faces of the edge cells
-    /// along a wall axis are the walls. Along x the faces move with the drifting grid.
-    pub(super) fn exit_event(&self, i: usize) -> (f64, EventKind) {
+    /// When and how particle `i` (at `now`) leaves its cell (at `coords`); the outer faces of
+    /// the edge cells along a wall axis are the walls. Along x the faces move with the
+    /// drifting grid.
+    pub(super) fn exit_event(&self, i: usize, coords: [usize; 3]) -> (f64, EventKind) {
         let me = &self.kin[i];
         let g = self.params.gravity;
-        let coords = self.cells.coords_of(i as u32);
         let axes = &self.cells.axes;
         // the earliest face, chosen by selects (which one it is is random): first axis on ties
         let (mut best, mut axis, mut upper) = (f64::INFINITY, 0, false);

@@ -3,10 +3,12 @@
 use super::*;
 
 impl EdmdEngine {
-    /// Move particle `i` into the next cell along `axis`, wrapping across the periodic seam.
-    pub(super) fn cross_cell(&mut self, i: usize, axis: usize, upper: bool) {
+    /// Move particle `i` into the next cell along `axis`, wrapping across the periodic seam;
+    /// returns the new cell's coordinates.
+    pub(super) fn cross_cell(&mut self, i: usize, axis: usize, upper: bool) -> [usize; 3] {
         self.counters.cell_crossings += 1;
-        let mut coords = self.cells.coords_of(i as u32);
+        let from = self.kin[i].cell as usize;
+        let mut coords = self.cells.coords(from);
         let ax = self.cells.axes[axis];
         let (next, shift) = ax
             .neighbour(coords[axis], if upper { 1 } else { -1 })
@@ -15,8 +17,10 @@ impl EdmdEngine {
         // particle itself moves the opposite way
         self.kin[i].position[axis] -= shift;
         coords[axis] = next;
-        let flat = self.cells.index(coords);
-        self.cells.relocate(i as u32, flat);
+        let to = self.cells.index(coords);
+        self.cells.relocate(i as u32, from, to);
+        self.kin[i].cell = to as u32;
+        coords
     }
 
     /// Minimum-image separation r_i - r_j of two particles at the same time.

@@ -60,8 +60,8 @@ impl EdmdEngine {
                 }
             }
             EventKind::Cross { axis, upper } => {
-                self.cross_cell(i, axis as usize, upper);
-                let t = self.predict_after_crossing(i, axis as usize, upper);
+                let coords = self.cross_cell(i, axis as usize, upper);
+                let t = self.predict_after_crossing(i, coords, axis as usize, upper);
                 self.schedule(i, t);
             }
             EventKind::Wall { upper } => {

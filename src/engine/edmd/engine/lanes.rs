@@ -193,6 +193,7 @@ mod tests {
                     velocity: std::array::from_fn(|_| draw(&mut rng, 3.0)),
                     time: engine.now - rng.random::<f64>().powi(3),
                     collisions: rng.random_range(0..1000),
+                    cell: k.cell,
                 };
             }
             let images = [0, 1].map(|_| Image::from_index(rng.random_range(0..Image::COUNT)));

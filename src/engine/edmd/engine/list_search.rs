@@ -93,12 +93,13 @@ impl EdmdEngine {
     fn overlapping<const HIGHER_ONLY: bool>(&self, i: usize, found: &mut Vec<Neighbour>) {
         found.clear();
         let reach = 1.0 + self.skin();
-        let around = self.cells.around_particle(i as u32);
+        let coords = self.cells.coords(self.kin[i].cell as usize);
+        let around = self.cells.around_coords(coords);
         let a = self.anchors[i];
         // cells whose nearest point is out of reach are skipped (a corner cell about half the
         // time): with a margin far above round-off, so that no anchor they hold could pass the
         // test below
-        let slabs = self.cells.slab_distances(self.cells.coords_of(i as u32), a);
+        let slabs = self.cells.slab_distances(coords, a);
         let cell_reach = reach + 1e-6;
         let mut kept = KeptNeighbours::new();
         self.cells.walk_within(
@@ -148,7 +149,9 @@ impl EdmdEngine {
         }
         self.anchors[i] = [position[0] - offset, position[1], position[2]];
         let cell = self.cells.index(self.cells.locate(self.anchors[i]));
-        self.cells.relocate(i as u32, cell);
+        self.cells
+            .relocate(i as u32, self.kin[i].cell as usize, cell);
+        self.kin[i].cell = cell as u32;
         let mut found = std::mem::take(&mut self.scratch);
         self.overlapping::<false>(i, &mut found);
         self.lists.replace(i as u32, &found);

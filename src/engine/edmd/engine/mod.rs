@@ -47,7 +47,7 @@ const REBUILD_EVENTS_PER_PARTICLE: u64 = 50;
 const RECORDS_IN_CACHE: usize = 512 * 1024;
 
 /// Kinematic state of one particle at its own local time: the data read when other particles
-/// look for collision partners, packed into one 64-byte cache line.
+/// look for collision partners, and the particle's cell, packed into one 64-byte cache line.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(64))]
 pub(crate) struct Kinematics {
@@ -59,6 +59,9 @@ pub(crate) struct Kinematics {
     pub time: f64,
     /// number of velocity changes (collisions) since the last rebuild; validates events
     pub collisions: u32,
+    /// flat index of the cell whose list holds the particle (cell search: the cell of its
+    /// centre in the grid frame; list search: of its list's centre)
+    pub cell: u32,
 }
 
 /// What a particle's scheduled event is.
@@ -284,6 +287,7 @@ impl EdmdEngine {
             velocity: state.velocities[i],
             time: state.now,
             collisions: 0,
+            cell: 0,
         });
         let mut engine = EdmdEngine {
             pair_law: ContactLaw {

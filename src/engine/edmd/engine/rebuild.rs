@@ -64,6 +64,7 @@ impl EdmdEngine {
         // inserted last to first, so that each cell lists its particles in storage order
         for (slot, &key) in keys.iter().enumerate().rev() {
             self.ids[slot] = key as u32;
+            self.kin[slot].cell = (key >> 32) as u32;
             self.cells.insert(slot as u32, (key >> 32) as usize);
         }
         if self.uses_lists() {
