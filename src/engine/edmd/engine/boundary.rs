@@ -7,18 +7,19 @@ impl EdmdEngine {
     /// Current state as plain data (particles at their local times brought to `now`).
     pub(super) fn state(&self) -> EngineState {
         let g = self.params.gravity;
-        let (positions, velocities) = self
-            .by_id(&self.kin)
-            .into_iter()
-            .map(|k| fly(k.position, k.velocity, g, self.now - k.time))
-            .unzip();
+        let flown = |s: usize| {
+            let k = &self.kin[s];
+            fly(k.position, k.velocity, g, self.now - k.time)
+        };
+        let positions = self.by_id(|s| flown(s).0);
+        let velocities = self.by_id(|s| flown(s).1);
         EngineState {
             params: self.params.clone(),
             now: self.now,
             positions,
             velocities,
-            angular_velocities: self.by_id(&self.angular),
-            last_collision: self.by_id(&self.last_collision),
+            angular_velocities: self.by_id(|s| self.own[s].angular),
+            last_collision: self.by_id(|s| self.own[s].last_collision),
             counters: self.counters,
             wall_momentum: self.wall_momentum,
             dissipated: self.dissipated,
@@ -98,11 +99,10 @@ impl Engine for EdmdEngine {
             .map(|k| 0.5 * dot(k.velocity, k.velocity))
             .sum();
         let rotational_energy = self
-            .angular
+            .own
             .iter()
-            .map(|w| 0.5 * k_over_4 * dot(*w, *w))
+            .map(|o| 0.5 * k_over_4 * dot(o.angular, o.angular))
             .sum();
-        let kinematics = self.by_id(&self.kin);
         Snapshot {
             progress: self.progress(),
             counters: self.counters.named(),
@@ -110,9 +110,9 @@ impl Engine for EdmdEngine {
                 geometry: self.params.geometry,
                 inertia_factor: self.params.inertia_factor,
                 gravity: self.params.gravity,
-                positions: kinematics.iter().map(|k| k.position).collect(),
-                velocities: kinematics.iter().map(|k| k.velocity).collect(),
-                angular_velocities: self.by_id(&self.angular),
+                positions: self.by_id(|s| self.kin[s].position),
+                velocities: self.by_id(|s| self.kin[s].velocity),
+                angular_velocities: self.by_id(|s| self.own[s].angular),
                 diameters: Vec::new(),
                 translational_energy,
                 rotational_energy,

@@ -17,7 +17,7 @@ impl EdmdEngine {
         }
         let coords = self.cells.coords(self.kin[i].cell as usize);
         let around = self.cells.around_coords(coords);
-        self.plan[i].candidate = self.scan_cells(i, &around, f64::INFINITY);
+        self.own[i].plan.candidate = self.scan_cells(i, &around, f64::INFINITY);
         self.choose_event(i, coords)
     }
 
@@ -32,7 +32,7 @@ impl EdmdEngine {
         axis: usize,
         upper: bool,
     ) -> f64 {
-        let candidate = self.plan[i].candidate;
+        let candidate = self.own[i].plan.candidate;
         let still_valid = match candidate.partner {
             NO_PARTNER => true,
             j => self.kin[j as usize].collisions == candidate.partner_collisions,
@@ -43,7 +43,7 @@ impl EdmdEngine {
         let entered = self.cells.entered_at(coords, axis, upper);
         let found = self.scan_cells(i, &entered, candidate.time);
         if found.time < candidate.time {
-            self.plan[i].candidate = found;
+            self.own[i].plan.candidate = found;
         }
         self.choose_event(i, coords)
     }
@@ -52,14 +52,14 @@ impl EdmdEngine {
     /// candidate: stored as its event, time returned.
     pub(super) fn choose_event(&mut self, i: usize, coords: [usize; 3]) -> f64 {
         let (exit_time, exit_kind) = self.exit_event(i, coords);
-        let candidate = self.plan[i].candidate;
+        let candidate = self.own[i].plan.candidate;
         let pair = EventKind::Pair {
             partner: candidate.partner,
             partner_collisions: candidate.partner_collisions,
         };
         // a collision or a crossing is a coin flip: chosen by selects, not a branch
         let collides = (candidate.time <= exit_time) & (candidate.partner != NO_PARTNER);
-        self.plan[i].event = if collides { pair } else { exit_kind };
+        self.own[i].plan.event = if collides { pair } else { exit_kind };
         if collides { candidate.time } else { exit_time }
     }
 

@@ -48,7 +48,7 @@ impl EdmdEngine {
         if let Some(paths) = self.free_paths.as_deref_mut() {
             let g = self.params.gravity;
             for p in [i, j] {
-                let tau = t - self.last_collision[p];
+                let tau = t - self.own[p].last_collision;
                 if tau.is_finite() {
                     let k = &self.kin[p];
                     paths.add_flight(k.position[1], k.velocity, tau, g, false);
@@ -58,15 +58,15 @@ impl EdmdEngine {
         let r = self.separation(i, j);
         let k = -r / r.norm(); // unit vector from i to j
         let tc = self.params.tc;
-        let tc_elastic =
-            tc > 0.0 && (t - self.last_collision[i] < tc || t - self.last_collision[j] < tc);
+        let tc_elastic = tc > 0.0
+            && (t - self.own[i].last_collision < tc || t - self.own[j].last_collision < tc);
         let first = SphereVelocity {
             linear: self.kin[i].velocity.into(),
-            angular: self.angular[i].into(),
+            angular: self.own[i].angular.into(),
         };
         let second = SphereVelocity {
             linear: self.kin[j].velocity.into(),
-            angular: self.angular[j].into(),
+            angular: self.own[j].angular.into(),
         };
         let law = if tc_elastic {
             self.counters.tc_elastic_collisions += 1;
@@ -84,12 +84,12 @@ impl EdmdEngine {
         let out = collision::pair_collision(&first, &second, &k, &law);
         self.kin[i].velocity = out.first.linear.into();
         self.kin[j].velocity = out.second.linear.into();
-        self.angular[i] = out.first.angular.into();
-        self.angular[j] = out.second.angular.into();
+        self.own[i].angular = out.first.angular.into();
+        self.own[j].angular = out.second.angular.into();
         self.kin[i].collisions += 1;
         self.kin[j].collisions += 1;
-        self.last_collision[i] = t;
-        self.last_collision[j] = t;
+        self.own[i].last_collision = t;
+        self.own[j].last_collision = t;
         self.dissipated += out.dissipated;
         self.counters.pair_collisions += 1;
         if let Some(log) = &mut self.log {
@@ -113,7 +113,7 @@ impl EdmdEngine {
             y.max(collision::RADIUS)
         };
         if let Some(paths) = self.free_paths.as_deref_mut() {
-            let tau = self.now - self.last_collision[i];
+            let tau = self.now - self.own[i].last_collision;
             if tau.is_finite() {
                 let k = &self.kin[i];
                 paths.add_flight(k.position[1], k.velocity, tau, self.params.gravity, true);
@@ -122,13 +122,13 @@ impl EdmdEngine {
         let k = Vector3::new(0.0, if upper { 1.0 } else { -1.0 }, 0.0);
         let sphere = SphereVelocity {
             linear: self.kin[i].velocity.into(),
-            angular: self.angular[i].into(),
+            angular: self.own[i].angular.into(),
         };
         let out = collision::wall_collision(&sphere, &k, &self.wall_law);
         self.kin[i].velocity = out.sphere.linear.into();
-        self.angular[i] = out.sphere.angular.into();
+        self.own[i].angular = out.sphere.angular.into();
         self.kin[i].collisions += 1;
-        self.last_collision[i] = self.now;
+        self.own[i].last_collision = self.now;
         let side = &mut self.wall_momentum[upper as usize];
         for a in 0..3 {
             side[a] += out.impulse[a];

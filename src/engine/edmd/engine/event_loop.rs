@@ -44,7 +44,7 @@ impl EdmdEngine {
         }
         self.synchronised = false;
         self.advance_particle(i, t);
-        match self.plan[i].event {
+        match self.own[i].plan.event {
             EventKind::Pair {
                 partner,
                 partner_collisions,
@@ -78,13 +78,12 @@ impl EdmdEngine {
         true
     }
 
-    /// Start loading particle `next`'s records: kinematics, plan, angular velocity and (list
+    /// Start loading particle `next`'s records: its [`Kinematics`] and [`Own`] lines and (list
     /// search) its list.
     #[inline(always)]
     fn prefetch_own_records(&self, next: usize) {
         prefetch_at(&self.kin, next);
-        prefetch_at(&self.plan, next);
-        prefetch_at(&self.angular, next);
+        prefetch_at(&self.own, next);
         if self.uses_lists() {
             self.lists.prefetch(next);
         }
@@ -101,10 +100,10 @@ impl EdmdEngine {
             if matches!(self.queue, EngineQueue::Tree(_)) {
                 self.prefetch_own_records(next);
             }
-            if let EventKind::Pair { partner, .. } = self.plan[next].event {
+            if let EventKind::Pair { partner, .. } = self.own[next].plan.event {
                 let j = partner as usize;
                 prefetch_at(&self.kin, j);
-                prefetch_at(&self.angular, j);
+                prefetch_at(&self.own, j);
                 if self.uses_lists() {
                     self.lists.prefetch(j);
                 }

@@ -185,7 +185,7 @@ impl EdmdEngine {
         } else {
             (exit_time, exit_kind)
         };
-        self.plan[i].event = kind;
+        self.own[i].plan.event = kind;
         time
     }
 

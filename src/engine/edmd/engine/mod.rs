@@ -64,6 +64,24 @@ pub(crate) struct Kinematics {
     pub cell: u32,
 }
 
+/// What only a particle's own events read and write, packed into one 64-byte cache line: a
+/// collision touches the two particles' [`Kinematics`] and `Own` lines and nothing else of
+/// theirs.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Own {
+    /// w, angular velocity (constant between collisions)
+    angular: [f64; 3],
+    /// time of the last collision (pair or wall), for the TC model
+    last_collision: f64,
+    /// scheduled event and pair candidate
+    plan: Plan,
+}
+
+// each record is one cache line
+const _: () = assert!(std::mem::size_of::<Kinematics>() == 64);
+const _: () = assert!(std::mem::size_of::<Own>() == 64);
+
 /// What a particle's scheduled event is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum EventKind {
@@ -149,12 +167,8 @@ pub struct EdmdEngine {
     kin: HugeArray<Kinematics>,
     /// particle id of each storage slot (slots are re-sorted by cell at every rebuild)
     ids: HugeArray<u32>,
-    /// w, angular velocities (constant between collisions)
-    angular: HugeArray<[f64; 3]>,
-    /// time of each particle's last collision (pair or wall), for the TC model
-    last_collision: HugeArray<f64>,
-    /// scheduled event and pair candidate of each particle (one record: one cache miss)
-    plan: HugeArray<Plan>,
+    /// spin, last collision and plan of each particle
+    own: HugeArray<Own>,
     queue: EngineQueue,
     /// how partners are found (cell lists, or neighbour lists: then the cells hold anchors)
     /// and whether rebuilds re-choose it
@@ -303,9 +317,11 @@ impl EdmdEngine {
             now: state.now,
             kin,
             ids: HugeArray::from_fn(n, |i| i as u32),
-            angular: state.angular_velocities.into_iter().collect(),
-            last_collision: state.last_collision.into_iter().collect(),
-            plan: HugeArray::new(n, Plan::NONE),
+            own: HugeArray::from_fn(n, |i| Own {
+                angular: state.angular_velocities[i],
+                last_collision: state.last_collision[i],
+                plan: Plan::NONE,
+            }),
             queue: EngineQueue::new(n, 1, 1.0, state.now),
             policy: state.search,
             lists: lists_for(search, n),
@@ -350,9 +366,7 @@ impl EdmdEngine {
     pub fn bytes_per_particle(&self) -> f64 {
         let n = self.kin.len().max(1);
         let per = std::mem::size_of::<Kinematics>()
-            + std::mem::size_of::<[f64; 3]>()
-            + std::mem::size_of::<f64>()
-            + std::mem::size_of::<Plan>()
+            + std::mem::size_of::<Own>()
             + std::mem::size_of::<u32>()
             + self.queue.bytes_per_particle();
         let lists = self.lists.bytes() + std::mem::size_of_val(&self.anchors[..]);
@@ -362,11 +376,12 @@ impl EdmdEngine {
         2.0 * self.counters.pair_collisions as f64 / self.kin.len() as f64
     }
 
-    /// Per-slot data rearranged by particle id (the order of snapshots and checkpoints).
-    fn by_id<T: Copy + Default>(&self, per_slot: &[T]) -> Vec<T> {
-        let mut out = vec![T::default(); per_slot.len()];
+    /// `of(slot)` for every slot, arranged by particle id (the order of snapshots and
+    /// checkpoints).
+    fn by_id<T: Copy + Default>(&self, of: impl Fn(usize) -> T) -> Vec<T> {
+        let mut out = vec![T::default(); self.ids.len()];
         for (slot, &id) in self.ids.iter().enumerate() {
-            out[id as usize] = per_slot[slot];
+            out[id as usize] = of(slot);
         }
         out
     }

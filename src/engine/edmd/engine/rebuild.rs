@@ -58,8 +58,7 @@ impl EdmdEngine {
             .collect();
         drop(slot_of_id);
         permute(&mut self.kin, &from);
-        permute(&mut self.angular, &from);
-        permute(&mut self.last_collision, &from);
+        permute(&mut self.own, &from);
         drop(from);
         // inserted last to first, so that each cell lists its particles in storage order
         for (slot, &key) in keys.iter().enumerate().rev() {
