@@ -95,10 +95,14 @@ impl NeighbourLists {
         unsafe { std::slice::from_raw_parts(words.as_ptr().cast::<Neighbour>(), words.len()) }
     }
 
-    /// Start loading particle `i`'s list into cache.
+    /// Start loading particle `i`'s list into cache (its first two cache lines when lists
+    /// have outgrown one).
     #[inline(always)]
     pub fn prefetch(&self, i: usize) {
         prefetch_at(&self.words, i * self.stride);
+        if self.stride > Self::INITIAL_STRIDE {
+            prefetch_at(&self.words, i * self.stride + Self::INITIAL_STRIDE);
+        }
     }
 
     /// Empty every list.

@@ -51,6 +51,10 @@ impl EdmdEngine {
             } => {
                 let j = partner as usize;
                 if self.kin[j].collisions == partner_collisions {
+                    // the partner's list arrived during the last step: its neighbours load
+                    // while the collision is worked out (the particle's own were asked for
+                    // then)
+                    self.prefetch_listed(j);
                     self.advance_particle(j, t);
                     self.collide_pair(i, j);
                     self.reschedule(i);
@@ -79,13 +83,25 @@ impl EdmdEngine {
     }
 
     /// Start loading particle `next`'s records: its [`Kinematics`] and [`Own`] lines and (list
-    /// search) its list.
+    /// search) its list and the list's centre.
     #[inline(always)]
     fn prefetch_own_records(&self, next: usize) {
         prefetch_at(&self.kin, next);
         prefetch_at(&self.own, next);
         if self.uses_lists() {
             self.lists.prefetch(next);
+            prefetch_at(&self.anchors, next);
+        }
+    }
+
+    /// Start loading the records of the neighbours in particle `i`'s list (whose list is in
+    /// cache), when they do not all fit in a second-level cache.
+    #[inline(always)]
+    fn prefetch_listed(&self, i: usize) {
+        if self.uses_lists() && self.prefetches_partners() {
+            for entry in self.lists.of(i) {
+                prefetch_at(&self.kin, entry.slot() as usize);
+            }
         }
     }
 
@@ -106,13 +122,10 @@ impl EdmdEngine {
                 prefetch_at(&self.own, j);
                 if self.uses_lists() {
                     self.lists.prefetch(j);
+                    prefetch_at(&self.anchors, j);
                 }
             }
-            if self.uses_lists() && self.prefetches_partners() {
-                for entry in self.lists.of(next) {
-                    prefetch_at(&self.kin, entry.slot() as usize);
-                }
-            }
+            self.prefetch_listed(next);
         }
     }
 }
