@@ -335,6 +335,12 @@ impl Source<'_> {
     }
 
     fn locate(&self, section: Option<&str>, key: &str, skip: usize) -> Option<(usize, usize)> {
+        let pos = self.offset(section, key, skip)?;
+        Some(self.line_col(pos))
+    }
+
+    /// Byte offset of the `skip`-th (from 0) `key` after the section `section`.
+    fn offset(&self, section: Option<&str>, key: &str, skip: usize) -> Option<usize> {
         let start = match section {
             Some(s) => find_key(self.text, 0, s)?,
             None => 0,
@@ -346,11 +352,47 @@ impl Source<'_> {
             found = Some(pos);
             at = pos + key.len();
         }
-        let pos = found?;
+        found
+    }
+
+    /// 1-based line and column of a byte offset.
+    fn line_col(&self, pos: usize) -> (usize, usize) {
         let before = &self.text[..pos];
         let line = before.matches('\n').count() + 1;
         let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-        Some((line, col))
+        (line, col)
+    }
+
+    /// An error at `key` of the `item`-th entry of the list `section`, an entry being found by
+    /// `anchor`, a key every entry has: `key` may be missing from earlier entries (an optional
+    /// key), so it is searched from the opening parenthesis of that entry on. At the entry
+    /// when `key` is not written in it (a default), at 0:0 when nothing is found.
+    pub fn error_in_item(
+        &self,
+        section: &str,
+        anchor: &str,
+        item: usize,
+        key: &str,
+        message: String,
+    ) -> SpecError {
+        let mut error = self.error_at(Some(section), anchor, item, message);
+        error.key = Some(format!("{section}.{key}"));
+        let Some(anchor_at) = self.offset(Some(section), anchor, item) else {
+            return error;
+        };
+        let entry = self.text[..anchor_at].rfind('(').unwrap_or(anchor_at);
+        let end = self.text[anchor_at..]
+            .find(')')
+            .map_or(self.text.len(), |e| anchor_at + e);
+        if let Some(pos) = find_key(self.text, entry, key).filter(|&p| p < end) {
+            let (line, col) = self.line_col(pos);
+            error.origin = Origin::File {
+                path: self.path.to_path_buf(),
+                line,
+                col,
+            };
+        }
+        error
     }
 }
 
@@ -751,12 +793,24 @@ impl SpecError {
     }
 }
 
-/// Check the parts of a spec that do not need the expansion: engine, run settings, analysis
-/// settings, each key and value against the engine's declaration, axes non-empty without
-/// duplicates, links, seeds.
+/// Check the parts of a spec that do not need the expansion, one phase per concern and in this
+/// order (the first error is reported): the engine, the name, the run settings, the analysis
+/// settings, the fixed and point values, the axes, the links, the seeds.
 pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> {
-    let Some(engine) = engine_of(spec) else {
-        return Err(src.error_at(
+    let engine = check_engine(spec, src)?;
+    check_name_key(spec, src)?;
+    check_run(spec, engine, src)?;
+    check_analysis(spec, engine, src)?;
+    check_values(spec, engine, src)?;
+    check_axes(spec, engine, src)?;
+    check_links(spec, engine, src)?;
+    check_seeds(spec, src)
+}
+
+/// The engine exists in the registry.
+fn check_engine(spec: &SweepSpec, src: &Source) -> Result<&'static EngineDef, SpecError> {
+    engine_of(spec).ok_or_else(|| {
+        src.error_at(
             None,
             "engine",
             0,
@@ -765,16 +819,23 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                 spec.engine,
                 registry::names()
             ),
-        ));
-    };
-    if let Some(name) = &spec.name
-        && let Err(why) = check_name(name)
-    {
-        return Err(src.error_at(None, "name", 0, why));
+        )
+    })
+}
+
+/// The sweep's name, when given, is one directory name ([`check_name`]).
+fn check_name_key(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> {
+    match spec.name.as_deref().map(check_name) {
+        Some(Err(why)) => Err(src.error_at(None, "name", 0, why)),
+        _ => Ok(()),
     }
+}
+
+/// The run settings against the engine's clocks. The snapshot interval is checked against the
+/// run length: an error is blamed on whichever of the two a `--set` gave, else on the file's
+/// line of the key.
+fn check_run(spec: &SweepSpec, engine: &EngineDef, src: &Source) -> Result<(), SpecError> {
     spec.run.validate(engine).map_err(|(key, message)| {
-        // the snapshot interval is checked against the run length: blamed on whichever of the
-        // two a --set gave, else on the file's line of the key
         let related = [key, spec.run.clock().key()];
         let keys = if key == "snapshot_interval" {
             &related[..]
@@ -785,32 +846,51 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             .find_map(|k| at_override(spec, k))
             .unwrap_or_else(|| src.error_at(Some("run"), key, 0, message.clone()))
             .with_message(message)
-    })?;
-    if let Err(message) = registry::analysis_of(engine).analyser(&spec.analysis) {
-        return Err(src.error_at(None, "analysis", 0, message.to_string()));
+    })
+}
+
+/// The `analysis` settings are ones the engine's analysis reads.
+fn check_analysis(spec: &SweepSpec, engine: &EngineDef, src: &Source) -> Result<(), SpecError> {
+    match registry::analysis_of(engine).analyser(&spec.analysis) {
+        Err(message) => Err(src.error_at(None, "analysis", 0, message.to_string())),
+        Ok(_) => Ok(()),
     }
-    let check = |section: &str, name: &str, v: &ParamValue, skip: usize| -> Result<(), SpecError> {
-        let Some(def) = engine.param(name) else {
-            let suggestion = did_you_mean(name, engine.params.iter().map(|d| d.name))
-                .map(|s| format!("did you mean `{s}`? "))
-                .unwrap_or_default();
-            return Err(src.error_at(
-                Some(section),
-                name,
-                skip,
-                format!(
-                    "{}{suggestion}the {} engine's parameters are: {}",
-                    unknown_key_message(name, engine),
-                    engine.name,
-                    engine.param_names()
-                ),
-            ));
-        };
-        def.check_value(v)
-            .map_err(|m| src.error_at(Some(section), name, skip, readable_numbers(&m)))
+}
+
+/// One value of `section` (the `skip`-th occurrence of `name` in it): a parameter of the engine,
+/// within its declared range or choices.
+fn check_param(
+    engine: &EngineDef,
+    src: &Source,
+    section: &str,
+    name: &str,
+    v: &ParamValue,
+    skip: usize,
+) -> Result<(), SpecError> {
+    let Some(def) = engine.param(name) else {
+        let suggestion = did_you_mean(name, engine.params.iter().map(|d| d.name))
+            .map(|s| format!("did you mean `{s}`? "))
+            .unwrap_or_default();
+        return Err(src.error_at(
+            Some(section),
+            name,
+            skip,
+            format!(
+                "{}{suggestion}the {} engine's parameters are: {}",
+                unknown_key_message(name, engine),
+                engine.name,
+                engine.param_names()
+            ),
+        ));
     };
+    def.check_value(v)
+        .map_err(|m| src.error_at(Some(section), name, skip, readable_numbers(&m)))
+}
+
+/// The `fixed` values, then each extra point's values ([`check_param`]).
+fn check_values(spec: &SweepSpec, engine: &EngineDef, src: &Source) -> Result<(), SpecError> {
     for (name, v) in &spec.fixed.0 {
-        check("fixed", name, v, 0)?;
+        check_param(engine, src, "fixed", name, v, 0)?;
     }
     for (i, point) in spec.points.iter().enumerate() {
         for (name, v) in &point.0 {
@@ -818,45 +898,53 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                 .iter()
                 .filter(|p| p.0.contains_key(name))
                 .count();
-            check("points", name, v, skip)?;
+            check_param(engine, src, "points", name, v, skip)?;
         }
     }
-    let axes = &spec.axes.0;
-    for (name, values) in axes {
+    Ok(())
+}
+
+/// Each axis: not empty, its values valid ([`check_param`]) and distinct, and not also fixed.
+fn check_axes(spec: &SweepSpec, engine: &EngineDef, src: &Source) -> Result<(), SpecError> {
+    let at = |name: &str, message: String| src.error_at(Some("axes"), name, 0, message);
+    for (name, values) in &spec.axes.0 {
         if values.is_empty() {
-            return Err(src.error_at(
-                Some("axes"),
+            return Err(at(
                 name,
-                0,
                 "the axis is empty: give at least one value (or move it to `fixed`)".into(),
             ));
         }
         for (i, v) in values.iter().enumerate() {
-            check("axes", name, v, 0)?;
+            check_param(engine, src, "axes", name, v, 0)?;
             if values[..i].contains(v) {
-                return Err(src.error_at(
-                    Some("axes"),
+                return Err(at(
                     name,
-                    0,
                     format!("duplicate value {v} in the axis: each value may appear once"),
                 ));
             }
         }
         if spec.fixed.0.contains_key(name) {
-            return Err(src.error_at(
-                Some("axes"),
+            return Err(at(
                 name,
-                0,
                 "is both fixed and swept: keep it in one of `fixed` or `axes`".into(),
             ));
         }
     }
+    Ok(())
+}
+
+/// Each link: its parameter exists, follows a swept or fixed parameter, both are numeric, it
+/// has no other source, and its factor is finite and positive.
+fn check_links(spec: &SweepSpec, engine: &EngineDef, src: &Source) -> Result<(), SpecError> {
+    let axes = &spec.axes.0;
+    let fixed = &spec.fixed.0;
+    let numeric = |d: &crate::engine::ParamDef| !matches!(d.kind, ParamKind::Choice(_));
     for (i, link) in spec.linked.iter().enumerate() {
+        // `param` and `follows` are in every link, `factor` may be left at its default
+        let at = |key: &str, message: String| src.error_in_item("linked", "param", i, key, message);
         let Some(def) = engine.param(&link.param) else {
-            return Err(src.error_at(
-                Some("linked"),
+            return Err(at(
                 "param",
-                i,
                 format!(
                     "unknown parameter \"{}\"; allowed: {}",
                     link.param,
@@ -864,40 +952,32 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
                 ),
             ));
         };
-        let numeric = |d: &crate::engine::ParamDef| !matches!(d.kind, ParamKind::Choice(_));
-        let follows_def = engine.param(&link.follows);
-        if !axes.contains_key(&link.follows) && !spec.fixed.0.contains_key(&link.follows) {
-            return Err(src.error_at(
-                Some("linked"),
+        if !axes.contains_key(&link.follows) && !fixed.contains_key(&link.follows) {
+            return Err(at(
                 "follows",
-                i,
                 format!(
                     "\"{}\" is neither swept nor fixed; allowed: {}",
                     link.follows,
                     axes.keys()
-                        .chain(spec.fixed.0.keys())
+                        .chain(fixed.keys())
                         .cloned()
                         .collect::<Vec<_>>()
                         .join(", ")
                 ),
             ));
         }
-        if !numeric(def) || !follows_def.is_some_and(numeric) {
-            return Err(src.error_at(
-                Some("linked"),
+        if !numeric(def) || !engine.param(&link.follows).is_some_and(numeric) {
+            return Err(at(
                 "param",
-                i,
                 format!(
                     "\"{}\" follows \"{}\": links are between numeric parameters",
                     link.param, link.follows
                 ),
             ));
         }
-        if axes.contains_key(def.name) || spec.fixed.0.contains_key(def.name) {
-            return Err(src.error_at(
-                Some("linked"),
+        if axes.contains_key(def.name) || fixed.contains_key(def.name) {
+            return Err(at(
                 "param",
-                i,
                 format!(
                     "\"{}\" is also fixed or swept: a parameter has one source",
                     def.name
@@ -905,10 +985,8 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             ));
         }
         if !(link.factor.is_finite() && link.factor > 0.0) {
-            return Err(src.error_at(
-                Some("linked"),
+            return Err(at(
                 "factor",
-                i,
                 format!(
                     "{} is out of range: allowed a finite value > 0",
                     link.factor
@@ -916,29 +994,407 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
             ));
         }
     }
+    Ok(())
+}
+
+/// At least one seed, each within a signed 64-bit integer, none twice.
+fn check_seeds(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> {
+    let at = |message: String| src.error_at(None, "seeds", 0, message);
     if spec.seeds.is_empty() {
-        return Err(src.error_at(None, "seeds", 0, "no seeds: give at least one".into()));
+        return Err(at("no seeds: give at least one".into()));
     }
     for (i, s) in spec.seeds.iter().enumerate() {
         if i64::try_from(*s).is_err() {
-            return Err(src.error_at(
-                None,
-                "seeds",
-                0,
-                format!(
-                    "seed {s} is out of range: allowed 0 to {} (tables hold it as a signed 64-bit integer)",
-                    i64::MAX
-                ),
-            ));
+            return Err(at(format!(
+                "seed {s} is out of range: allowed 0 to {} (tables hold it as a signed 64-bit integer)",
+                i64::MAX
+            )));
         }
         if spec.seeds[..i].contains(s) {
-            return Err(src.error_at(
-                None,
-                "seeds",
-                0,
-                format!("duplicate seed {s}: each seed may appear once"),
-            ));
+            return Err(at(format!("duplicate seed {s}: each seed may appear once")));
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    //! [`validate`] phase by phase: each message, its key and its place (line, or the `--set`
+    //! that gave the value), from small sweep files.
+    use super::*;
+
+    const PATH: &str = "t.ron";
+
+    /// A small EDMD sweep file, one section a line: line 3 `fixed`, line 4 `axes`, line 5 `run`,
+    /// line 6 `extra` (further sections, or nothing).
+    fn edmd(fixed: &str, axes: &str, extra: &str) -> String {
+        format!(
+            "(\n    engine: \"edmd\",\n    fixed: ({fixed}),\n    axes: ({axes}),\n    \
+             run: (collisions_per_particle: 100.0, snapshot_interval: 10.0),\n    {extra}\n)\n"
+        )
+    }
+
+    const FIXED: &str =
+        "width_over_diameter: 10.0, height_over_diameter: 10.0, volume_fraction: 0.15";
+    const AXES: &str = "length_over_width: [1.0, 2.0]";
+
+    /// A small DSMC sweep file (a choice parameter, `wall_model`, for the links).
+    fn dsmc(extra: &str) -> String {
+        format!(
+            "(\n    engine: \"dsmc\",\n    fixed: (wall_model: \"thermal\"),\n    \
+             axes: (knudsen_number: [0.1, 0.2]),\n    \
+             run: (steps: 100.0, snapshot_interval: 10.0),\n    {extra}\n)\n"
+        )
+    }
+
+    fn parsed(text: &str) -> SweepSpec {
+        parse(Path::new(PATH), text).unwrap_or_else(|e| panic!("{e}\n{text}"))
+    }
+
+    fn check(spec: &SweepSpec, text: &str) -> Result<(), SpecError> {
+        validate(
+            spec,
+            &Source {
+                path: Path::new(PATH),
+                text,
+            },
+        )
+    }
+
+    /// The error of a sweep file that parses but must not validate.
+    fn error(text: &str) -> SpecError {
+        match check(&parsed(text), text) {
+            Ok(()) => panic!("validated, but should not have:\n{text}"),
+            Err(e) => e,
+        }
+    }
+
+    /// The error's key, message and line in the file.
+    fn placed(e: &SpecError) -> (Option<&str>, &str, usize) {
+        let Origin::File { line, .. } = &e.origin else {
+            panic!("expected an error in the file, got {e}");
+        };
+        (e.key.as_deref(), e.message.as_str(), *line)
+    }
+
+    fn edmd_def() -> &'static EngineDef {
+        registry::find("edmd").expect("edmd is registered")
+    }
+
+    #[test]
+    fn the_small_files_validate() {
+        for text in [edmd(FIXED, AXES, ""), dsmc("")] {
+            check(&parsed(&text), &text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        }
+    }
+
+    #[test]
+    fn an_unknown_engine_is_named_with_the_ones_there_are() {
+        let text = edmd(FIXED, AXES, "").replace("\"edmd\"", "\"edmx\"");
+        let e = error(&text);
+        let message = format!(
+            "engine \"edmx\" does not exist; allowed: {}",
+            registry::names()
+        );
+        assert_eq!(placed(&e), (Some("engine"), message.as_str(), 2));
+        assert_eq!(e.to_string(), format!("t.ron:2:5: key `engine`: {message}"));
+    }
+
+    #[test]
+    fn a_name_is_one_directory_name() {
+        let cases = [
+            (
+                "",
+                "name \"\" has 0 characters: allowed 1 to 100".to_string(),
+            ),
+            (
+                "a/b",
+                "name \"a/b\" holds '/', which does not belong in a directory name: allowed \
+                 letters, digits and - _ . + = ,"
+                    .into(),
+            ),
+            (
+                ".hidden",
+                "name \".hidden\" starts with a dot (a hidden directory): start with a letter or \
+                 digit"
+                    .into(),
+            ),
+            (
+                &"x".repeat(101),
+                format!(
+                    "name \"{}...\" has 101 characters: allowed 1 to 100",
+                    "x".repeat(40)
+                ),
+            ),
+        ];
+        for (name, message) in cases {
+            let e = error(&edmd(FIXED, AXES, &format!("name: \"{name}\",")));
+            assert_eq!(placed(&e), (Some("name"), message.as_str(), 6), "{name}");
+        }
+        check(&parsed(&edmd(FIXED, AXES, "name: \"a-b_c.1+2=3,4\",")), "").unwrap();
+    }
+
+    #[test]
+    fn run_settings_are_placed_in_the_run_section() {
+        let text = edmd(FIXED, AXES, "").replace("collisions_per_particle", "steps");
+        let e = error(&text);
+        let message = format!(
+            "the edmd engine cannot measure a run in `steps`; allowed: {}",
+            edmd_def().clock_names()
+        );
+        assert_eq!(placed(&e), (Some("run.steps"), message.as_str(), 5));
+    }
+
+    #[test]
+    fn a_run_error_is_blamed_on_the_set_that_caused_it() {
+        // the interval (10, from the file) exceeds the length a --set gave: the --set is blamed
+        let text = edmd(FIXED, AXES, "");
+        for (arg, key) in [
+            ("collisions_per_particle=5", "collisions_per_particle"),
+            ("snapshot_interval=1000", "snapshot_interval"),
+        ] {
+            let mut spec = parsed(&text);
+            apply_overrides(&mut spec, &[arg.to_string()]).unwrap();
+            let e = check(&spec, &text).unwrap_err();
+            assert_eq!(e.origin, Origin::Override(arg.into()), "{e}");
+            assert_eq!(e.key.as_deref(), Some(key));
+            assert!(
+                e.message
+                    .contains("is out of range: allowed 0 < snapshot_interval <="),
+                "{e}"
+            );
+        }
+    }
+
+    #[test]
+    fn analysis_settings_are_checked_by_the_engines_analysis() {
+        let e = error(&edmd(FIXED, AXES, "analysis: (no_such_setting: 1),"));
+        let (key, message, line) = placed(&e);
+        assert_eq!((key, line), (Some("analysis"), 6));
+        assert!(
+            message.starts_with("unknown field `no_such_setting`")
+                && message.ends_with(
+                    "allowed keys: grid, profile_bins, cell_particles, min_steady_snapshots"
+                ),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn fixed_keys_and_values_are_checked_against_the_declaration() {
+        let names = edmd_def().param_names();
+        let e = error(&edmd(&format!("{FIXED}, restitutoin: 0.5"), AXES, ""));
+        let message = format!(
+            "unknown key `restitutoin` for the edmd engine; did you mean `restitution`? the edmd \
+             engine's parameters are: {names}"
+        );
+        assert_eq!(placed(&e), (Some("fixed.restitutoin"), message.as_str(), 3));
+
+        let e = error(&edmd(&format!("{FIXED}, knudsen_number: 0.5"), AXES, ""));
+        let message = format!(
+            "`knudsen_number` is a parameter of {}, not of the edmd engine; the edmd engine's \
+             parameters are: {names}",
+            registry::engines_phrase(&registry::engines_with_param("knudsen_number", "edmd"))
+        );
+        assert_eq!(
+            placed(&e),
+            (Some("fixed.knudsen_number"), message.as_str(), 3)
+        );
+
+        let e = error(&edmd(&format!("{FIXED}, restitution: 1.5"), AXES, ""));
+        assert_eq!(
+            placed(&e),
+            (
+                Some("fixed.restitution"),
+                "restitution (e) = 1.5 is out of range: allowed [0, 1]",
+                3
+            )
+        );
+    }
+
+    #[test]
+    fn a_bad_point_value_is_placed_at_its_own_point() {
+        let text = edmd(
+            FIXED,
+            AXES,
+            "points: [\n        (restitution: 0.5),\n        (restitution: 2.0),\n    ],",
+        );
+        let e = error(&text);
+        assert_eq!(
+            placed(&e),
+            (
+                Some("points.restitution"),
+                "restitution (e) = 2 is out of range: allowed [0, 1]",
+                8
+            )
+        );
+    }
+
+    #[test]
+    fn axes_are_non_empty_distinct_valid_and_not_fixed() {
+        let cases = [
+            (
+                "length_over_width: []",
+                "the axis is empty: give at least one value (or move it to `fixed`)",
+            ),
+            (
+                "length_over_width: [1.0, 2.0, 1.0]",
+                "duplicate value 1 in the axis: each value may appear once",
+            ),
+            (
+                "length_over_width: [1.0, -2.0]",
+                "length_over_width (L/W) = -2 is out of range: allowed a finite value > 0 with \
+                 L = (L/W)(W/d) >= 3",
+            ),
+        ];
+        for (axes, message) in cases {
+            let e = error(&edmd(FIXED, axes, ""));
+            assert_eq!(
+                placed(&e),
+                (Some("axes.length_over_width"), message, 4),
+                "{axes}"
+            );
+        }
+        let e = error(&edmd(&format!("{FIXED}, length_over_width: 1.0"), AXES, ""));
+        assert_eq!(
+            placed(&e),
+            (
+                Some("axes.length_over_width"),
+                "is both fixed and swept: keep it in one of `fixed` or `axes`",
+                4
+            )
+        );
+    }
+
+    /// `linked` with a first, valid link and a second one, `second` (placed on line 8).
+    fn links(second: &str) -> String {
+        format!(
+            "linked: [\n        (param: \"height_over_diameter\", follows: \"length_over_width\"),\n        \
+             {second},\n    ],"
+        )
+    }
+
+    #[test]
+    fn links_follow_a_swept_or_fixed_numeric_parameter_with_a_positive_factor() {
+        let fixed = "width_over_diameter: 10.0, volume_fraction: 0.15";
+        let text = edmd(
+            fixed,
+            AXES,
+            &links("(param: \"gravity\", follows: \"width_over_diameter\", factor: 0.1)"),
+        );
+        check(&parsed(&text), &text).unwrap_or_else(|e| panic!("{e}"));
+
+        let names = edmd_def().param_names();
+        let cases = [
+            (
+                "(param: \"gravitee\", follows: \"width_over_diameter\")",
+                "linked.param",
+                format!("unknown parameter \"gravitee\"; allowed: {names}"),
+            ),
+            (
+                "(param: \"gravity\", follows: \"restitution\")",
+                "linked.follows",
+                "\"restitution\" is neither swept nor fixed; allowed: length_over_width, \
+                 volume_fraction, width_over_diameter"
+                    .into(),
+            ),
+            (
+                "(param: \"gravity\", follows: \"width_over_diameter\", factor: 0.0)",
+                "linked.factor",
+                "0 is out of range: allowed a finite value > 0".into(),
+            ),
+            (
+                "(param: \"gravity\", follows: \"width_over_diameter\", factor: -2.0)",
+                "linked.factor",
+                "-2 is out of range: allowed a finite value > 0".into(),
+            ),
+            (
+                "(param: \"volume_fraction\", follows: \"width_over_diameter\")",
+                "linked.param",
+                "\"volume_fraction\" is also fixed or swept: a parameter has one source".into(),
+            ),
+            (
+                "(param: \"length_over_width\", follows: \"width_over_diameter\")",
+                "linked.param",
+                "\"length_over_width\" is also fixed or swept: a parameter has one source".into(),
+            ),
+        ];
+        for (second, key, message) in cases {
+            let e = error(&edmd(fixed, AXES, &links(second)));
+            assert_eq!(placed(&e), (Some(key), message.as_str(), 8), "{second}");
+        }
+    }
+
+    #[test]
+    fn links_are_between_numeric_parameters() {
+        for link in [
+            "(param: \"wall_model\", follows: \"knudsen_number\")",
+            "(param: \"forcing\", follows: \"wall_model\")",
+        ] {
+            let text = dsmc(&format!("linked: [\n        {link},\n    ],")).replace(
+                "fixed: (wall_model: \"thermal\")",
+                "fixed: (restitution: 1.0, wall_model: \"thermal\")",
+            );
+            let text = if link.contains("param: \"wall_model\"") {
+                text.replace(", wall_model: \"thermal\"", "")
+            } else {
+                text
+            };
+            let e = error(&text);
+            let (from, to) = if link.contains("param: \"wall_model\"") {
+                ("wall_model", "knudsen_number")
+            } else {
+                ("forcing", "wall_model")
+            };
+            let message =
+                format!("\"{from}\" follows \"{to}\": links are between numeric parameters");
+            assert_eq!(
+                placed(&e),
+                (Some("linked.param"), message.as_str(), 7),
+                "{link}"
+            );
+        }
+    }
+
+    #[test]
+    fn seeds_are_given_in_range_and_once_each() {
+        let e = error(&edmd(FIXED, AXES, "seeds: [],"));
+        assert_eq!(
+            placed(&e),
+            (Some("seeds"), "no seeds: give at least one", 6)
+        );
+        let e = error(&edmd(FIXED, AXES, "seeds: [3, 1, 2, 1],"));
+        assert_eq!(
+            placed(&e),
+            (
+                Some("seeds"),
+                "duplicate seed 1: each seed may appear once",
+                6
+            )
+        );
+        // the file's reader refuses seeds above i64::MAX; a spec built otherwise is checked too
+        let text = edmd(FIXED, AXES, "seeds: [1, 2],");
+        let mut spec = parsed(&text);
+        spec.seeds[1] = u64::MAX;
+        let e = check(&spec, &text).unwrap_err();
+        let message = format!(
+            "seed {} is out of range: allowed 0 to {} (tables hold it as a signed 64-bit integer)",
+            u64::MAX,
+            i64::MAX
+        );
+        assert_eq!(placed(&e), (Some("seeds"), message.as_str(), 6));
+    }
+
+    #[test]
+    fn the_first_failing_phase_reports() {
+        // a bad engine hides the rest; a bad fixed value comes before a duplicate seed
+        let text = edmd(
+            &format!("{FIXED}, restitution: 1.5"),
+            AXES,
+            "seeds: [1, 1],",
+        );
+        assert_eq!(error(&text).key.as_deref(), Some("fixed.restitution"));
+        let text = text.replace("\"edmd\"", "\"nope\"");
+        assert_eq!(error(&text).key.as_deref(), Some("engine"));
+    }
 }
