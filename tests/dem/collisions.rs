@@ -3,7 +3,8 @@
 //! then rolling on a wall, and a sphere resting on a wall.
 
 use crate::dem::support::{body, engine, mono, params};
-use granflow::engine::dem::{ContactType, DemParams, SizeMix};
+use granflow::engine::dem::params::sphere_mass;
+use granflow::engine::dem::{ContactType, DemParams, SizeMix, WallDamping};
 
 /// A collision measured: rebound ratio and contact duration (start and end interpolated
 /// linearly between the steps around the sign change of the overlap).
@@ -116,7 +117,7 @@ fn head_on_collisions_give_e_n_and_t_c_of_each_pair_type() {
             let (m, kind) = head_on(&p, da, db, n);
             let dt = kind.contact_time / n;
             let w0 = (p.normal_stiffness / kind.effective_mass).sqrt();
-            let xi = p.normal_damping;
+            let xi = kind.damping_rate();
             let e_err = (m.restitution - kind.restitution).abs();
             let t_err = (m.duration / kind.contact_time - 1.0).abs();
             let e_tol = 2.0 * xi * dt + (w0 * dt).powi(2);
@@ -152,6 +153,61 @@ fn head_on_collisions_give_e_n_and_t_c_of_each_pair_type() {
             "{errors:?}"
         );
     }
+}
+
+/// The paper's wall (App. A: "the restitution and friction coefficients for particle-wall
+/// collisions are the same as those for particle-particle collisions"): with `wall_damping:
+/// pair_restitution` a sphere of each size of the mix hits a wall head on and rebounds with
+/// the pair's e_n = 0.82, its contact lasting t_c = sqrt(m / k_n) sqrt(pi^2 + ln^2 e_n) (the
+/// linear law's t_c at m_eff = m with the damping that gives e_n: m_eff delta'' + m_eff xi
+/// delta' + k_n delta = 0, e_n = exp(-xi t_c / 2), t_c = pi / sqrt(k_n / m - xi^2 / 4)),
+/// at the paper's k_n = 1e6. Tolerances as in the head-on test above (the integrator's
+/// first-order error at 100 steps per contact). Under LAMMPS' convention (the pair's xi_n at
+/// m_eff = m, `pair_rate`) the d_p sphere rebounds with 0.755 instead: the same measurement
+/// must see that.
+#[test]
+fn each_size_rebounds_from_the_wall_with_the_pair_restitution() {
+    let e_n: f64 = 0.82;
+    let paper = DemParams {
+        wall_damping: WallDamping::PairRestitution,
+        ..params(1e6, 8.0, 6.0, 12.0)
+    };
+    let n = 100.0;
+    for &(d, _) in SizeMix::Debnath.components() {
+        let (m, kind) = head_on(&paper, d, None, n);
+        let t_c = (sphere_mass(d) / paper.normal_stiffness).sqrt()
+            * (std::f64::consts::PI.powi(2) + e_n.ln().powi(2)).sqrt();
+        let dt = t_c / n;
+        let xi = -2.0 * e_n.ln() / t_c;
+        let w0 = (paper.normal_stiffness / sphere_mass(d)).sqrt();
+        let e_tol = 2.0 * xi * dt + (w0 * dt).powi(2);
+        let t_tol = 0.5 * xi * dt + (w0 * dt).powi(2);
+        println!(
+            "{d}-wall: e = {:.5} (paper {e_n}, tol {e_tol:.1e}), t = {:.5e} (analytic {t_c:.5e}, tol {t_tol:.1e})",
+            m.restitution, m.duration
+        );
+        assert!(
+            (m.restitution - e_n).abs() <= e_tol,
+            "{d}-wall: e = {}",
+            m.restitution
+        );
+        assert!(
+            (m.duration / t_c - 1.0).abs() <= t_tol,
+            "{d}-wall: t = {}",
+            m.duration
+        );
+        // what the records carry
+        assert!((kind.restitution - e_n).abs() < 1e-12, "{kind:?}");
+        assert!((kind.contact_time / t_c - 1.0).abs() < 1e-12, "{kind:?}");
+    }
+    // LAMMPS' fix wall/gran with the pair's xi_n: the d_p sphere rebounds with 0.755
+    let lammps = DemParams {
+        wall_damping: WallDamping::PairRate,
+        ..paper
+    };
+    let (m, _) = head_on(&lammps, 1.0, None, n);
+    println!("1.0-wall, pair_rate: e = {:.5}", m.restitution);
+    assert!((m.restitution - 0.755).abs() < 0.005, "{}", m.restitution);
 }
 
 /// The slip of the contact points of particles a and b (a - b) tangential to the initial

@@ -75,10 +75,14 @@ fn small_channel() -> DemParams {
 /// the floor with friction) and in the flow (walls, gravity, friction, three sizes), over
 /// enough steps that the list is rebuilt many times and contacts start and end. Bitwise,
 /// because both apply the same contact rule and sum each particle's forces in the same order
-/// (partners by tag, wall, floor, gravity): any other difference is a bug.
+/// (partners by tag, wall, floor, gravity): any other difference is a bug. With the paper's
+/// walls, whose damping differs by size (both look each particle's law up by its radius).
 #[test]
 fn the_engine_is_the_reference_bit_for_bit() {
-    let p = small_channel();
+    let p = DemParams {
+        wall_damping: granflow::engine::dem::WallDamping::PairRestitution,
+        ..small_channel()
+    };
     let mut e = DemEngine::unprepared(p).unwrap();
     assert!(e.particle_count() > 100);
     let (rebuilds, started, ended) = beside_reference(&mut e, 1500, "preparation");
@@ -212,6 +216,41 @@ fn checkpoint_restore_continue_is_bitwise_the_uninterrupted_run() {
     a.prepare(1300).unwrap();
     b.prepare(1300).unwrap();
     assert_eq!(a.to_payload(), b.to_payload(), "preparation");
+}
+
+/// A checkpoint payload of version 1 (written before `wall_damping` existed: the state
+/// alone) restores with the walls those runs had, the pair's damping, and continues as the
+/// run it came from; version 2 carries the wall damping after the state.
+#[test]
+fn a_payload_of_version_1_restores_with_the_pairs_wall_damping() {
+    use granflow::engine::dem::WallDamping;
+    let p = DemParams {
+        skin: 0.1,
+        ..small_channel()
+    };
+    for wall in [WallDamping::PairRate, WallDamping::PairRestitution] {
+        let mut a = DemEngine::unprepared(DemParams {
+            wall_damping: wall,
+            ..p.clone()
+        })
+        .unwrap();
+        a.prepare(700).unwrap();
+        let v2 = a.to_payload();
+        // version 1 is version 2 without its last byte, the wall damping's variant index
+        let v1 = &v2[..v2.len() - 1];
+        let b = DemEngine::from_payload_of_version(2, &v2).unwrap();
+        assert_eq!(b.params().wall_damping, wall);
+        let c = DemEngine::from_payload_of_version(1, v1).unwrap();
+        assert_eq!(c.params().wall_damping, WallDamping::PairRate);
+        assert!(DemEngine::from_payload_of_version(1, &v2).is_err());
+        assert!(DemEngine::from_payload_of_version(3, &v2).is_err());
+        if wall == WallDamping::PairRate {
+            let mut c = c;
+            a.prepare(1300).unwrap();
+            c.prepare(1300).unwrap();
+            assert_eq!(a.to_payload(), c.to_payload());
+        }
+    }
 }
 
 /// The bits of bond-order sums.

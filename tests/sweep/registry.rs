@@ -25,6 +25,45 @@ fn granflow(args: &[&str]) -> Output {
     Command::new(BIN).args(args).output().unwrap()
 }
 
+/// The DEM sweeps shipped before `wall_damping` existed (they do not set it) keep their job
+/// ids: the canonical form with today's DEM table is the one without that parameter, since
+/// its default is the convention those jobs ran with. A job that asks for the paper's walls
+/// has another id.
+#[test]
+fn dem_ids_without_wall_damping_are_unchanged() {
+    let dem = registry::find("dem").unwrap();
+    let before: Vec<_> = dem
+        .params
+        .iter()
+        .filter(|d| d.name != "wall_damping")
+        .copied()
+        .collect();
+    assert_eq!(before.len() + 1, dem.params.len());
+    let sweeps = Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps");
+    for file in ["dem-small.ron", "dem-wide.ron", "dem-small-stiffness.ron"] {
+        let sweep = load_sweep(&sweeps.join(file), &[]).unwrap();
+        for job in &sweep.plan {
+            assert_eq!(
+                job.params.values.get("wall_damping"),
+                Some(&ParamValue::Text("pair_rate".into())),
+                "{file}"
+            );
+            let old = granflow::sweep::job::canonical_with(&before, &job.params);
+            assert_eq!(
+                granflow::sweep::job::id_of_canonical(&old),
+                job.id,
+                "{file}"
+            );
+            let mut paper = job.params.clone();
+            paper.values.insert(
+                "wall_damping".into(),
+                ParamValue::Text("pair_restitution".into()),
+            );
+            assert_ne!(paper.id(), job.id, "{file}");
+        }
+    }
+}
+
 /// Copies of the sweep files shipped at 7062f8f give the ids that binary printed.
 #[test]
 fn shipped_sweep_ids_are_pinned() {

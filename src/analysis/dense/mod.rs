@@ -164,6 +164,10 @@ pub struct DenseSummary {
     pub local_q6_plug_error: f64,
     /// which bins gave `q6_plug`: "plug", "dense" (no plug: the dense zone) or "none"
     pub q6_region: String,
+    /// e_n of a d_p sphere against a wall, as the records' contact types state it: the pair's
+    /// e_n under the paper's wall damping, less under LAMMPS' (0.755 at a pair e_n of 0.82)
+    #[serde(default = "crate::analysis::nan")]
+    pub wall_restitution: f64,
 }
 
 impl Default for DenseSummary {
@@ -208,6 +212,7 @@ impl Default for DenseSummary {
             local_q6_plug: nan,
             local_q6_plug_error: nan,
             q6_region: "none".into(),
+            wall_restitution: nan,
         }
     }
 }
@@ -418,6 +423,22 @@ pub fn q6_region(z: &zones::Zones) -> (&'static str, Option<usize>) {
     }
 }
 
+/// e_n of a d_p sphere against a wall (of the mix's middle size when it has no d_p), from a
+/// record's contact types.
+fn wall_restitution(r: &Record) -> f64 {
+    let walls: Vec<_> = r
+        .constants
+        .contact_types
+        .iter()
+        .filter(|t| t.other.is_none())
+        .collect();
+    walls
+        .iter()
+        .find(|t| t.diameter == 1.0)
+        .or(walls.get(walls.len() / 2))
+        .map_or(f64::NAN, |t| t.restitution)
+}
+
 /// The series rows of the usable records.
 fn series(usable: &[&Record], start: usize) -> Vec<SeriesRow> {
     usable
@@ -456,6 +477,7 @@ pub fn analyse(records: &[Record], settings: &DenseSettings) -> DenseAnalysis {
         };
     };
     let first = window[0];
+    s.wall_restitution = wall_restitution(first);
     let g = Geometry::of(first);
     s.window_start_time = t0;
     s.window_end_time = t1;

@@ -26,7 +26,8 @@
 //! A flat wall is a particle of infinite mass and no radius (`fix wall/gran`): del is the
 //! vector from the nearest wall point to the centre, r = |del|, contact while r^2 <= R^2,
 //! overlap R - r, m_eff = m_i, v_tr = v_t - R_i w_i x n, tau_i = -R_i n x F_t. The history is
-//! dropped (zeroed) when a contact ends.
+//! dropped (zeroed) when a contact ends. Its law may differ by particle size ([`WallLaws`]:
+//! LAMMPS then has one `fix wall/gran` per size group).
 //!
 //! With k_t = 0 the Coulomb rescale of LAMMPS divides by k_t; here the history is then zeroed
 //! (it carries no force).
@@ -52,6 +53,61 @@ pub struct ContactLaw {
     pub mu: f64,
     /// Delta t, the step of the history increment
     pub dt: f64,
+}
+
+/// Most particle sizes of a mix (the paper's: 3).
+pub const MAX_SIZES: usize = 3;
+
+/// The wall's law for each particle size (`fix wall/gran` applied per size group): the same
+/// k_n, k_t and mu for all, a damping per size when the wall matches the pair's restitution
+/// ([`super::params::WallDamping`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallLaws {
+    radii: [f64; MAX_SIZES],
+    laws: [ContactLaw; MAX_SIZES],
+    len: usize,
+}
+
+impl WallLaws {
+    /// The laws of particles of these radii (at most [`MAX_SIZES`]).
+    pub fn new(sizes: &[(f64, ContactLaw)]) -> WallLaws {
+        assert!(
+            !sizes.is_empty() && sizes.len() <= MAX_SIZES,
+            "{} sizes: a mix has 1 to {MAX_SIZES}",
+            sizes.len()
+        );
+        let mut w = WallLaws {
+            radii: [f64::NAN; MAX_SIZES],
+            laws: [sizes[0].1; MAX_SIZES],
+            len: sizes.len(),
+        };
+        for (k, &(r, law)) in sizes.iter().enumerate() {
+            w.radii[k] = r;
+            w.laws[k] = law;
+        }
+        w
+    }
+
+    /// The same law for every size.
+    pub fn uniform(law: ContactLaw) -> WallLaws {
+        WallLaws::new(&[(f64::NAN, law)])
+    }
+
+    /// The law of a particle of radius R (its size's; the last size's for a radius of none,
+    /// which only [`WallLaws::uniform`] meets: particles are always of the mix).
+    #[inline(always)]
+    pub fn of(&self, radius: f64) -> &ContactLaw {
+        let k = self.radii[..self.len]
+            .iter()
+            .position(|&r| r == radius)
+            .unwrap_or(self.len - 1);
+        &self.laws[k]
+    }
+
+    /// (R, law) of each size.
+    pub fn sizes(&self) -> impl Iterator<Item = (f64, &ContactLaw)> {
+        self.radii[..self.len].iter().copied().zip(&self.laws)
+    }
 }
 
 /// What one contact gives: the force on i (j gets -force) and tor = n x F_t (LAMMPS' `tor`):

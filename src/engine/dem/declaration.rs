@@ -2,8 +2,9 @@
 //! damping alternatives, the time-step rule; clocks: time and steps) and its [`Engine`]
 //! boundary.
 
+use super::engine::PAYLOAD_VERSION;
 use super::params::{
-    DEFAULT_RESTITUTION, DampingFrom, DemParams, REFERENCE_PAIR_MASS, SizeMix,
+    DEFAULT_RESTITUTION, DampingFrom, DemParams, REFERENCE_PAIR_MASS, SizeMix, WallDamping,
     damping_for_restitution, default_time_step,
 };
 use super::{DemEngine, prepare};
@@ -14,9 +15,6 @@ use crate::engine::{
     Clock, Content, Counters, Engine, EngineDef, EngineError, ParamDef, ParamValue, Progress,
     Snapshot, StopAt, Values, envelope,
 };
-
-/// Version of the DEM payload in the envelope.
-const PAYLOAD_VERSION: u32 = 1;
 
 /// The declaration of the `dem` engine.
 pub static DECLARATION: EngineDef = EngineDef {
@@ -275,6 +273,17 @@ const PARAMS: &[ParamDef] = &[
         InId::Always,
     ),
     param(
+        "wall_damping",
+        "xi_w",
+        "-",
+        ParamKind::Choice(WallDamping::NAMES),
+        ParamDefault::Text("pair_rate"),
+        "pair_rate or pair_restitution",
+        ranges::any,
+        "the walls' damping. pair_restitution (the paper's \"same restitution\"): per size, the rate that gives each size the d_p pair's e_n against a wall; pair_rate (LAMMPS fix wall/gran given the pair's gamma_n, gamma_t; granflow's runs before this parameter): the pair's xi_n, xi_t with m_eff = m_i, e_n 0.72-0.79 by size at a pair e_n of 0.82",
+        InId::AwayFromDefault,
+    ),
+    param(
         "settle_friction",
         "mu_s",
         "1",
@@ -371,6 +380,11 @@ pub fn params_of(values: &Values, seed: u64) -> DemParams {
         tangential_damping_ratio: number(values, "tangential_damping_ratio"),
         friction: number(values, "friction"),
         wall_friction: number(values, "wall_friction"),
+        wall_damping: values
+            .get("wall_damping")
+            .and_then(ParamValue::as_text)
+            .and_then(WallDamping::from_name)
+            .unwrap_or_default(),
         settle_friction: number(values, "settle_friction"),
         gravity: [g, 0.0, 0.0],
         time_step: number(values, "time_step"),
@@ -457,8 +471,8 @@ fn build(values: &Values, seed: u64) -> BuiltEngine {
 }
 
 fn restore(version: u32, payload: &[u8]) -> BuiltEngine {
-    crate::engine::declare::check_payload_version("DEM", version, PAYLOAD_VERSION)?;
-    let engine = DemEngine::from_payload(payload).map_err(EngineError::Checkpoint)?;
+    let engine =
+        DemEngine::from_payload_of_version(version, payload).map_err(EngineError::Checkpoint)?;
     Ok(Box::new(engine))
 }
 

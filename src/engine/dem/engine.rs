@@ -16,7 +16,7 @@ use super::contact::{self, ContactLaw};
 use super::domain::Domain;
 use super::forces::{self, Boundaries, Pass, Tally};
 use super::neighbours::{KeptContact, NeighbourList};
-use super::params::{ContactType, DampingFrom, DemParams, SizeMix};
+use super::params::{ContactType, DampingFrom, DemParams, SizeMix, WallDamping};
 use super::prepare::{self, Preparation, SETTLE_CHECK_EVERY};
 use super::sampling::{self, Bins, IntervalSums};
 use crate::engine::{BoxGeometry, Particles};
@@ -158,6 +158,11 @@ impl crate::engine::EngineSample for Sample {
         Some(&mut self.particles)
     }
 }
+
+/// Version of the checkpoint payload: 1, the postcard bytes of [`Payload`] (the wall damping
+/// was then always the pair's, [`WallDamping::PairRate`]); 2, those bytes followed by the
+/// wall damping's (it is not in [`DemParams`]' serialised form, so that version 1 decodes).
+pub const PAYLOAD_VERSION: u32 = 2;
 
 /// The checkpoint payload: the physical state in canonical form.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -376,25 +381,29 @@ impl DemEngine {
     /// The laws in force: the preparation compacts with `settle_friction`, then freezes with
     /// the run's friction.
     pub fn laws(&self) -> (ContactLaw, Boundaries) {
-        let (pair_law, wall_law, floor) = match &self.phase {
+        let (pair_law, wall_laws, floor) = match &self.phase {
             Phase::Preparing(p) if !p.freezing => {
-                let law = self.params.law(self.params.settle_friction);
-                (law, law, Some(p.floor))
+                let mu = self.params.settle_friction;
+                (
+                    self.params.law(mu),
+                    self.params.wall_laws_with(mu),
+                    Some(p.floor),
+                )
             }
             Phase::Preparing(p) => (
                 self.params.pair_law(),
-                self.params.wall_law(),
+                self.params.wall_laws(),
                 Some(p.floor),
             ),
-            Phase::Flowing => (self.params.pair_law(), self.params.wall_law(), None),
+            Phase::Flowing => (self.params.pair_law(), self.params.wall_laws(), None),
         };
         (
             pair_law,
             Boundaries {
                 width: self.params.width,
-                wall_law,
+                wall_laws,
                 floor,
-                floor_law: wall_law,
+                floor_laws: wall_laws,
                 gravity: self.params.gravity,
             },
         )
@@ -715,14 +724,20 @@ impl DemEngine {
             e[1] += 0.5 * (0.4 * m * r * r) * dot(b.w[i], b.w[i]);
             let (_, del, touching) = forces::nearer_wall(b.x[i][1], r, bounds.width);
             if touching {
-                e[2] +=
-                    contact::elastic_energy(&bounds.wall_law, r - del[1].abs(), &b.wall_shear[i]);
+                e[2] += contact::elastic_energy(
+                    bounds.wall_laws.of(r),
+                    r - del[1].abs(),
+                    &b.wall_shear[i],
+                );
             }
             if let Some(floor) = bounds.floor {
                 let dx = floor - b.x[i][0];
                 if dx * dx <= r * r {
-                    e[2] +=
-                        contact::elastic_energy(&bounds.floor_law, r - dx.abs(), &b.floor_shear[i]);
+                    e[2] += contact::elastic_energy(
+                        bounds.floor_laws.of(r),
+                        r - dx.abs(),
+                        &b.floor_shear[i],
+                    );
                 }
             }
         }
@@ -807,7 +822,7 @@ impl DemEngine {
         }
     }
 
-    /// The state as postcard bytes (the caller seals them).
+    /// The state as postcard bytes of version [`PAYLOAD_VERSION`] (the caller seals them).
     pub fn to_payload(&self) -> Vec<u8> {
         let payload = Payload {
             params: self.params.clone(),
@@ -820,14 +835,38 @@ impl DemEngine {
             totals: self.totals,
             last_wall_force: self.last_wall_force,
         };
-        postcard::to_stdvec(&payload).expect("DEM state serialises")
+        let mut bytes = postcard::to_stdvec(&payload).expect("DEM state serialises");
+        bytes.extend(postcard::to_stdvec(&self.params.wall_damping).expect("a choice serialises"));
+        bytes
     }
 
     /// An engine from [`to_payload`](Self::to_payload) bytes; it continues bitwise as the one
     /// that wrote them.
     pub fn from_payload(bytes: &[u8]) -> Result<Self, String> {
-        let p: Payload =
-            postcard::from_bytes(bytes).map_err(|e| format!("DEM payload does not decode: {e}"))?;
+        Self::from_payload_of_version(PAYLOAD_VERSION, bytes)
+    }
+
+    /// An engine from payload bytes of a version (1 or [`PAYLOAD_VERSION`]).
+    pub fn from_payload_of_version(version: u32, bytes: &[u8]) -> Result<Self, String> {
+        let undecodable = |e: postcard::Error| format!("DEM payload does not decode: {e}");
+        let (mut p, rest): (Payload, &[u8]) =
+            postcard::take_from_bytes(bytes).map_err(undecodable)?;
+        let (wall_damping, rest) = match version {
+            1 => (WallDamping::PairRate, rest),
+            2 => postcard::take_from_bytes(rest).map_err(undecodable)?,
+            v => {
+                return Err(format!(
+                    "DEM payload version {v}, this granflow reads versions 1 to {PAYLOAD_VERSION}"
+                ));
+            }
+        };
+        if !rest.is_empty() {
+            return Err(format!(
+                "DEM payload of version {version} has {} bytes after its end",
+                rest.len()
+            ));
+        }
+        p.params.wall_damping = wall_damping;
         p.params
             .validate_box_and_law()
             .map_err(|e| format!("DEM payload: {}: {}", e.key, e.message))?;

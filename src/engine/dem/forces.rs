@@ -21,7 +21,7 @@
 //! threads.
 
 use super::bodies::Bodies;
-use super::contact::{self, ContactLaw};
+use super::contact::{self, ContactLaw, WallLaws};
 use super::contact_lanes::ContactLanes;
 use super::domain::Domain;
 use super::neighbours::{NeighbourList, PairOut};
@@ -39,12 +39,12 @@ pub const PARTICLE_CHUNK: usize = 256;
 pub struct Boundaries {
     /// W
     pub width: f64,
-    /// the law of both walls
-    pub wall_law: ContactLaw,
+    /// the law of both walls, by particle size
+    pub wall_laws: WallLaws,
     /// the floor's position along x (gravity pushes particles onto it), during preparation
     pub floor: Option<f64>,
-    /// the floor's law
-    pub floor_law: ContactLaw,
+    /// the floor's law, by particle size
+    pub floor_laws: WallLaws,
     /// g, the gravitational acceleration
     pub gravity: [f64; 3],
 }
@@ -468,7 +468,7 @@ pub fn particle_pass(
                 let (wall, del, touching) = nearer_wall(xs[k][1], r, bounds.width);
                 if touching {
                     let cw = contact::wall(
-                        &bounds.wall_law,
+                        bounds.wall_laws.of(r),
                         del,
                         del[1] * del[1],
                         r,
@@ -500,7 +500,7 @@ pub fn particle_pass(
                     let rsq = dx * dx;
                     if rsq <= r * r {
                         let cf = contact::wall(
-                            &bounds.floor_law,
+                            bounds.floor_laws.of(r),
                             [dx, 0.0, 0.0],
                             rsq,
                             r,

@@ -6,12 +6,16 @@
 //! **Mapping** (granflow -> LAMMPS, `units lj`, `atom_style sphere`, `boundary p f p`):
 //! - box: x in [0, L) (flow and gravity, periodic), y in [0, W] (wall to wall, fixed, the
 //!   walls `fix wall/gran ... yplane 0 W`), z in [0, B) (span, periodic);
-//! - particle with canonical index (tag) k -> atom id k + 1, atom type 1, diameter d,
-//!   density 1 (LAMMPS forms m = 4 pi / 3 (d/2)^3, the bits of [`super::params::sphere_mass`]);
+//! - particle with canonical index (tag) k -> atom id k + 1, atom type 1 + the index of its
+//!   size in the mix (smallest first), diameter d, density 1 (LAMMPS forms
+//!   m = 4 pi / 3 (d/2)^3, the bits of [`super::params::sphere_mass`]);
 //! - v -> vx vy vz, w (spin) -> omegax omegay omegaz, both in the `Velocities` section;
 //! - k_n, k_t, xi_n (gamma_n), xi_t (gamma_t), mu_p -> `pair_style gran/hooke/history` with
-//!   dampflag 1 (tangential damping on); the walls get the same k_n, k_t, xi_n, xi_t with mu_w
-//!   (LAMMPS' wall has m_eff = m_i, as granflow's);
+//!   dampflag 1 (tangential damping on); the walls get the same k_n, k_t with mu_w and their
+//!   own xi_n, xi_t (LAMMPS' wall has m_eff = m_i, as granflow's): one `fix wall/gran` on all
+//!   particles when every size has the same wall law (`wall_damping: "pair_rate"`, the pair's
+//!   xi_n, xi_t), else one per size group (`group size<k> type <k>`) with that size's
+//!   damping (`"pair_restitution"`);
 //! - g -> `fix gravity |g| vector gx gy gz` (force m g), defined after the walls (the order
 //!   in which granflow adds them too);
 //! - Delta t -> `timestep`, skin -> `neighbor skin bin` with a check every step.
@@ -23,7 +27,8 @@
 //! no kept contacts, not as the run it came from.
 
 use super::bodies::BodyState;
-use super::params::DemParams;
+use super::contact::ContactLaw;
+use super::params::{DemParams, SizeMix};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -86,14 +91,16 @@ pub fn data_file(params: &DemParams, states: &[BodyState]) -> String {
         states.len()
     );
     let _ = writeln!(d, "{} atoms", states.len());
-    let _ = writeln!(d, "1 atom types\n");
+    let types = params.size_mix.components().len();
+    let _ = writeln!(d, "{types} atom types\n");
     let _ = writeln!(d, "0 {:e} xlo xhi", params.length);
     let _ = writeln!(d, "0 {:e} ylo yhi", params.width);
     let _ = writeln!(d, "0 {:e} zlo zhi\n", params.span);
     let _ = writeln!(d, "Atoms # sphere\n");
     for (k, s) in states.iter().enumerate() {
         let [x, y, z] = s.position;
-        let _ = writeln!(d, "{} 1 {:e} 1 {x:e} {y:e} {z:e}", k + 1, s.diameter);
+        let t = atom_type(params.size_mix, s.diameter);
+        let _ = writeln!(d, "{} {t} {:e} 1 {x:e} {y:e} {z:e}", k + 1, s.diameter);
     }
     let _ = writeln!(d, "\nVelocities\n");
     for (k, s) in states.iter().enumerate() {
@@ -102,6 +109,12 @@ pub fn data_file(params: &DemParams, states: &[BodyState]) -> String {
         let _ = writeln!(d, "{} {vx:e} {vy:e} {vz:e} {wx:e} {wy:e} {wz:e}", k + 1);
     }
     d
+}
+
+/// The atom type of a particle of diameter d: 1 + the index of its size in the mix (1 for a
+/// diameter of none: the data file of a state not of the mix, which a run refuses anyway).
+pub fn atom_type(mix: SizeMix, d: f64) -> usize {
+    1 + mix.components().iter().position(|c| c.0 == d).unwrap_or(0)
 }
 
 /// The input script that runs the channel of `params` from the data file in LAMMPS with
@@ -149,15 +162,47 @@ pub fn input_script(params: &DemParams, opts: &ScriptOptions) -> String {
         p.friction
     );
     let _ = writeln!(s, "pair_coeff * *");
-    let _ = writeln!(
-        s,
-        "# flat walls at y = 0 and y = W: m_eff = m_i, the same k_n k_t xi_n xi_t, mu_w"
-    );
-    let _ = writeln!(
-        s,
-        "fix walls all wall/gran hooke/history {kn:e} {kt:e} {gn:e} {gt:e} {:e} 1 yplane 0 {:e}",
-        p.wall_friction, p.width
-    );
+    let walls = p.wall_laws();
+    let laws: Vec<(f64, ContactLaw)> = walls.sizes().map(|(r, law)| (r, *law)).collect();
+    let mu_w = p.wall_friction;
+    if laws.iter().all(|l| l.1 == laws[0].1) {
+        let (gn, gt) = (laws[0].1.gamma_n, laws[0].1.gamma_t);
+        let _ = writeln!(
+            s,
+            "# flat walls at y = 0 and y = W: m_eff = m_i, k_n k_t xi_n xi_t ({}), mu_w",
+            if gn == p.normal_damping {
+                "the pair's"
+            } else {
+                "the walls' own"
+            }
+        );
+        let _ = writeln!(
+            s,
+            "fix walls all wall/gran hooke/history {kn:e} {kt:e} {gn:e} {gt:e} {mu_w:e} 1 yplane \
+             0 {:e}",
+            p.width
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "# flat walls at y = 0 and y = W: m_eff = m_i, k_n k_t, each size's own xi_n xi_t \
+             (e_n against a wall {:e} for every size, as the pair's), mu_w",
+            p.pair_restitution()
+        );
+        for (k, (r, law)) in laws.iter().enumerate() {
+            let _ = writeln!(s, "group size{} type {} # d = {:e}", k + 1, k + 1, 2.0 * r);
+            let _ = writeln!(
+                s,
+                "fix walls{} size{} wall/gran hooke/history {kn:e} {kt:e} {:e} {:e} {mu_w:e} 1 \
+                 yplane 0 {:e}",
+                k + 1,
+                k + 1,
+                law.gamma_n,
+                law.gamma_t,
+                p.width
+            );
+        }
+    }
     if g_len > 0.0 {
         let _ = writeln!(
             s,
@@ -575,6 +620,47 @@ mod tests {
         assert!(s.contains("run 500\n"));
         // walls before gravity: the order in which granflow adds the forces
         assert!(s.find("fix walls").unwrap() < s.find("fix gravity").unwrap());
+    }
+
+    /// With the paper's wall damping each size is a type and a group with its own `fix
+    /// wall/gran`, whose gamma_n gives that size the pair's e_n at m_eff = m.
+    #[test]
+    fn the_papers_walls_are_one_fix_per_size() {
+        use crate::engine::dem::params::{WallDamping, sphere_mass};
+        let p = DemParams {
+            wall_damping: WallDamping::PairRestitution,
+            ..DemParams::channel(10.0, 5.0, 12.0, 0.6, 1)
+        };
+        let s = input_script(&p, &ScriptOptions::new(500));
+        let fixes: Vec<&str> = s.lines().filter(|l| l.contains("wall/gran")).collect();
+        assert_eq!(fixes.len(), 3, "{s}");
+        for (k, &(d, _)) in p.size_mix.components().iter().enumerate() {
+            assert!(
+                s.contains(&format!("group size{} type {}", k + 1, k + 1)),
+                "{s}"
+            );
+            let words: Vec<&str> = fixes[k].split(' ').collect();
+            assert_eq!(words[2], format!("size{}", k + 1));
+            let gamma_n: f64 = words[7].parse().unwrap();
+            assert_eq!(words[8].parse::<f64>().unwrap(), 0.5 * gamma_n);
+            // e_n = exp(-xi t_c / 2), t_c = pi / sqrt(k_n / m - xi^2 / 4)
+            let m = sphere_mass(d);
+            let t_c =
+                std::f64::consts::PI / (p.normal_stiffness / m - 0.25 * gamma_n * gamma_n).sqrt();
+            assert!(
+                ((-0.5 * gamma_n * t_c).exp() - 0.82).abs() < 1e-12,
+                "{}",
+                fixes[k]
+            );
+        }
+        let states = vec![
+            BodyState::fresh(1.1, [1.0; 3], [0.0; 3], [0.0; 3]),
+            BodyState::fresh(0.9, [3.0; 3], [0.0; 3], [0.0; 3]),
+        ];
+        let data = data_file(&p, &states);
+        assert!(data.contains("3 atom types"), "{data}");
+        assert!(data.contains("\n1 3 1.1e0 1 "), "{data}");
+        assert!(data.contains("\n2 1 9e-1 1 "), "{data}");
     }
 
     const DUMP: &str = "ITEM: TIMESTEP

@@ -64,5 +64,5 @@ pub use bond_order::BondSums;
 pub use declaration::{DECLARATION, params_of};
 pub use engine::{DemCounters, DemEngine, Phase, Record, RunConstants, Sample, Totals};
 pub use neighbours::KeptContact;
-pub use params::{ContactType, DampingFrom, DemParams, SizeMix};
+pub use params::{ContactType, DampingFrom, DemParams, SizeMix, WallDamping};
 pub use sampling::{BinSums, Bins, IntervalSums};

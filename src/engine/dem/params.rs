@@ -5,7 +5,7 @@
 //! Units: d_p = 1 (the reference diameter), rho_p = 1, g = 1; a sphere of diameter d has mass
 //! m = (pi/6) d^3 and moment of inertia I = m d^2 / 10; time in sqrt(d_p / g).
 
-use super::contact::ContactLaw;
+use super::contact::{ContactLaw, WallLaws};
 use crate::engine::declare::Problem;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -127,6 +127,45 @@ impl DampingFrom {
     }
 }
 
+/// How the walls damp a contact. The paper: "the restitution and friction coefficients for
+/// particle-wall collisions are the same as those for particle-particle collisions" (App. A);
+/// a wall is a particle of infinite mass and no radius, so its contact with a sphere of mass
+/// m has m_eff = m (LAMMPS' `fix wall/gran`), twice the m_eff of a pair of such spheres.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WallDamping {
+    /// the pair's xi_n and xi_t (LAMMPS' `fix wall/gran` given the pair's gamma_n, gamma_t):
+    /// with m_eff = m the wall's e_n depends on the size, 0.72-0.79 for the paper's mix at a
+    /// pair e_n of 0.82 (0.755 for a d_p sphere). The default, because jobs of granflow
+    /// before this parameter existed ran this way and their ids do not name it
+    #[default]
+    PairRate,
+    /// per size d, xi_n,w(d) = 2 L w0 / sqrt(pi^2 + L^2) with w0 = sqrt(k_n / m_d) and
+    /// L = -ln e_n, e_n the d_p pair's; xi_t,w = (xi_t / xi_n) xi_n,w: every size rebounds
+    /// from a wall with the pair's e_n (the paper)
+    PairRestitution,
+}
+
+impl WallDamping {
+    /// Names in sweep files, in declaration order.
+    pub const NAMES: &'static [&'static str] = &["pair_rate", "pair_restitution"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            WallDamping::PairRate => "pair_rate",
+            WallDamping::PairRestitution => "pair_restitution",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<WallDamping> {
+        match name {
+            "pair_rate" => Some(WallDamping::PairRate),
+            "pair_restitution" => Some(WallDamping::PairRestitution),
+            _ => None,
+        }
+    }
+}
+
 /// Everything that defines one DEM channel run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DemParams {
@@ -154,6 +193,11 @@ pub struct DemParams {
     pub friction: f64,
     /// mu_w, particle-wall friction coefficient
     pub wall_friction: f64,
+    /// the walls' damping. Not in this struct's serialised form: the checkpoint payload of
+    /// version 1 (before it existed) is this struct's serialisation, and version 2 appends
+    /// the wall damping after the whole payload (`engine.rs`), so that both decode
+    #[serde(skip)]
+    pub wall_damping: WallDamping,
     /// mu during the preparation (pairs, walls and the temporary floor)
     pub settle_friction: f64,
     /// gravitational acceleration (the channel: (g, 0, 0), along the flow)
@@ -171,7 +215,9 @@ pub struct DemParams {
 
 impl DemParams {
     /// The paper's parameters (k_n = 1e6, k_t = 2/7 k_n, e_n = 0.82, xi_t = xi_n/2, mu = 0.5
-    /// for particles and walls, its size mix) in a channel W x B x L at phi-bar.
+    /// for particles and walls, its size mix) in a channel W x B x L at phi-bar, with the
+    /// registry's default wall damping ([`WallDamping::PairRate`]; the paper's is
+    /// [`WallDamping::PairRestitution`]).
     pub fn channel(width: f64, span: f64, length: f64, volume_fraction: f64, seed: u64) -> Self {
         let normal_stiffness = 1e6;
         DemParams {
@@ -187,6 +233,7 @@ impl DemParams {
             tangential_damping_ratio: 0.5,
             friction: 0.5,
             wall_friction: 0.5,
+            wall_damping: WallDamping::default(),
             settle_friction: 0.0,
             gravity: [1.0, 0.0, 0.0],
             time_step: default_time_step(normal_stiffness),
@@ -220,9 +267,56 @@ impl DemParams {
         self.law(self.friction)
     }
 
-    /// The particle-wall law (friction mu_w; the same k_n, k_t, xi_n, xi_t).
-    pub fn wall_law(&self) -> ContactLaw {
-        self.law(self.wall_friction)
+    /// The particle-wall laws of each size (friction mu_w).
+    pub fn wall_laws(&self) -> WallLaws {
+        self.wall_laws_with(self.wall_friction)
+    }
+
+    /// The particle-wall laws of each size with friction `mu`: the same k_n, k_t; the pair's
+    /// xi_n, xi_t or, with [`WallDamping::PairRestitution`], each size's own.
+    pub fn wall_laws_with(&self, mu: f64) -> WallLaws {
+        let sizes: Vec<(f64, ContactLaw)> = self
+            .size_mix
+            .components()
+            .iter()
+            .map(|&(d, _)| {
+                let xi_n = self.wall_damping_rate(d);
+                let law = ContactLaw {
+                    gamma_n: xi_n,
+                    gamma_t: self.tangential_damping_ratio * xi_n,
+                    ..self.law(mu)
+                };
+                (0.5 * d, law)
+            })
+            .collect();
+        WallLaws::new(&sizes)
+    }
+
+    /// xi_n,w of a sphere of diameter d against a wall: the pair's xi_n, or with
+    /// [`WallDamping::PairRestitution`] the rate that gives it the d_p pair's e_n at
+    /// m_eff = m_d.
+    pub fn wall_damping_rate(&self, d: f64) -> f64 {
+        match self.wall_damping {
+            WallDamping::PairRate => self.normal_damping,
+            WallDamping::PairRestitution => damping_for(
+                self.pair_restitution(),
+                self.normal_stiffness,
+                sphere_mass(d),
+            ),
+        }
+    }
+
+    /// e_n of the d_p-d_p pair under the run's k_n and xi_n (0 when overdamped): the pair
+    /// value the walls match under [`WallDamping::PairRestitution`].
+    pub fn pair_restitution(&self) -> f64 {
+        ContactType::new(
+            1.0,
+            Some(1.0),
+            REFERENCE_PAIR_MASS,
+            self.normal_stiffness,
+            self.normal_damping,
+        )
+        .restitution
     }
 
     /// A law with the run's stiffnesses, damping and time step and friction `mu`.
@@ -264,7 +358,7 @@ impl DemParams {
                 None,
                 sphere_mass(d),
                 self.normal_stiffness,
-                self.normal_damping,
+                self.wall_damping_rate(d),
             ));
         }
         out
@@ -443,7 +537,10 @@ impl DemParams {
                     format!(
                         "xi_n = {} overdamps the {} contact (xi_n^2 / 4 >= k_n / m_eff = {:.4e}): \
                          it never rebounds; allowed xi_n < {:.4e}",
-                        self.normal_damping,
+                        match t.other {
+                            Some(_) => self.normal_damping,
+                            None => self.wall_damping_rate(t.diameter),
+                        },
                         t.name(),
                         self.normal_stiffness / t.effective_mass,
                         2.0 * (self.normal_stiffness / t.effective_mass).sqrt()
@@ -493,12 +590,17 @@ pub fn default_time_step(normal_stiffness: f64) -> f64 {
     REFERENCE_TIME_STEP * (1e6 / normal_stiffness).sqrt()
 }
 
-/// xi_n that gives restitution `e` to the d_p-d_p pair (m_eff = pi/12) at stiffness k_n:
+/// xi_n that gives restitution `e` to the d_p-d_p pair (m_eff = pi/12) at stiffness k_n.
+pub fn damping_for_restitution(e: f64, normal_stiffness: f64) -> f64 {
+    damping_for(e, normal_stiffness, REFERENCE_PAIR_MASS)
+}
+
+/// xi_n that gives restitution `e` to a contact of effective mass m_eff at stiffness k_n:
 /// xi_n = 2 L w0 / sqrt(pi^2 + L^2), L = -ln e, w0 = sqrt(k_n / m_eff) (inverting
 /// e = exp(-xi_n t_c / 2), t_c = pi / sqrt(k_n/m_eff - xi_n^2/4)).
-pub fn damping_for_restitution(e: f64, normal_stiffness: f64) -> f64 {
+pub fn damping_for(e: f64, normal_stiffness: f64, effective_mass: f64) -> f64 {
     let l = -e.ln();
-    let w0 = (normal_stiffness / REFERENCE_PAIR_MASS).sqrt();
+    let w0 = (normal_stiffness / effective_mass).sqrt();
     2.0 * l * w0 / (PI * PI + l * l).sqrt()
 }
 
@@ -533,6 +635,11 @@ impl ContactType {
             contact_time,
             restitution: (-0.5 * xi_n * contact_time).exp(),
         }
+    }
+
+    /// xi_n of the contact, from e_n = exp(-xi_n t_c / 2) (NaN when overdamped).
+    pub fn damping_rate(&self) -> f64 {
+        -2.0 * self.restitution.ln() / self.contact_time
     }
 
     /// "0.9-1.1" or "1.0-wall".

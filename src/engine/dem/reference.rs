@@ -153,7 +153,7 @@ impl Reference {
             let (_, del, touching) = nearer_wall(b.position[1], r, self.bounds.width);
             if touching {
                 let c = contact::wall(
-                    &self.bounds.wall_law,
+                    self.bounds.wall_laws.of(r),
                     del,
                     del[1] * del[1],
                     r,
@@ -174,7 +174,7 @@ impl Reference {
                 let dx = -(floor - b.position[0]);
                 if dx * dx <= r * r {
                     let c = contact::wall(
-                        &self.bounds.floor_law,
+                        self.bounds.floor_laws.of(r),
                         [dx, 0.0, 0.0],
                         dx * dx,
                         r,
