@@ -128,7 +128,7 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
     outln!(
         "work: {range} {unit} in all, {remaining:.3e} still to do{}",
         if most > least {
-            " (a run until steady stops between its last milestone and its cap)"
+            " (a run until steady stops between its steady window (or last milestone) and its cap)"
         } else {
             ""
         },

@@ -11,8 +11,8 @@
 //!   per particle per time unit**: the job's own, when its checkpoint says how far it got;
 //!   else the median over the sweep's finished and checkpointed jobs; else the engine's
 //!   assumption (inside its `work`);
-//! - a run **until steady** may stop anywhere between its last milestone (or the start) and its
-//!   cap: its work is given as that range, the estimate uses the cap unless finished jobs of
+//! - a run **until steady** may stop anywhere between its last milestone (or the length of its
+//!   steady window, which it must span first) and its cap: its work is given as that range, the estimate uses the cap unless finished jobs of
 //!   the sweep stopped earlier, then the median of their stopping points as a fraction of the
 //!   cap.
 
@@ -194,7 +194,9 @@ pub fn estimate(
                 _ => (def.work)(&p.values, clock, reading),
             };
             let most = work_to(run.length());
-            let least = if run.until_steady.is_some() {
+            let least = if let Some(until) = &run.until_steady {
+                // it cannot stop before its steady window spans `window` on its clock
+                let window = work_to(until.window.min(run.length()));
                 let floor = run
                     .milestone_plan(def)
                     .filter(|plan| {
@@ -208,6 +210,7 @@ pub fn estimate(
                     Some((_, m)) => work_to(m).min(most),
                     None => 0.0,
                 }
+                .max(window)
             } else {
                 most
             };
