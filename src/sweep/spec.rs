@@ -1244,7 +1244,7 @@ mod tests {
             (
                 "length_over_width: [1.0, -2.0]",
                 "length_over_width (L/W) = -2 is out of range: allowed a finite value > 0 with \
-                 L = (L/W)(W/d) >= 3",
+                 3 <= L = (L/W)(W/d) <= 1e7",
             ),
         ];
         for (axes, message) in cases {
