@@ -216,7 +216,7 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
         }
         let values = engine
             .resolve_values(&values)
-            .map_err(|p| at(&p.key, super::spec::readable_numbers(&p.message)))?;
+            .map_err(|p| at(&p.key, super::readable::readable_numbers(&p.message)))?;
         check_job_memory(engine, &values).map_err(|m| at("fixed", m))?;
         let probe = JobParams {
             engine: spec.engine.clone(),

@@ -171,7 +171,7 @@ impl RunSettings {
                 clock.key(),
                 format!(
                     "{} is out of range: allowed a finite value > 0",
-                    super::spec::readable_number(length)
+                    super::readable::readable_number(length)
                 ),
             ));
         }
@@ -191,7 +191,7 @@ impl RunSettings {
                 ),
             ));
         }
-        let n = super::spec::readable_number;
+        let n = super::readable::readable_number;
         if !(interval.is_finite() && interval > 0.0 && interval <= length) {
             return Err((
                 "snapshot_interval",

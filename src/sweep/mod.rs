@@ -21,6 +21,7 @@ pub mod grid;
 pub mod job;
 pub mod phase;
 pub mod ranges;
+mod readable;
 pub mod runner;
 pub mod running;
 pub mod select;

@@ -4,6 +4,7 @@
 
 use super::job::RunSettings;
 use super::ranges::{RANGE_SYNTAX, RangeCall};
+use super::readable::readable_numbers;
 pub use super::suggest::did_you_mean;
 use crate::engine::declare::ParamKind;
 use crate::engine::{Clock, EngineDef, ParamValue, Values};
@@ -653,48 +654,6 @@ fn override_slot(key: &str, engine: &EngineDef) -> String {
         }
         None => format!("`{key}`"),
     }
-}
-
-/// A number as a person reads it: as written where it is short, in scientific notation where
-/// its digits would run on (1e308 is "1e308", not 309 digits).
-pub fn readable_number(x: f64) -> String {
-    let plain = x.to_string();
-    if plain.len() <= 16 {
-        return plain;
-    }
-    let short = format!("{x:e}");
-    if short.len() <= 10 {
-        short
-    } else {
-        format!("{x:.3e}")
-    }
-}
-
-/// `text` with every number of more than 16 digits (an engine's message about a value near
-/// the largest double) written by [`readable_number`].
-pub fn readable_numbers(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
-        let (before, from) = rest.split_at(start);
-        out.push_str(before);
-        let len = from
-            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
-            .unwrap_or(from.len());
-        let run = from[..len].trim_end_matches('.');
-        let glued = before
-            .chars()
-            .last()
-            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
-        let digits = run.chars().filter(char::is_ascii_digit).count();
-        match run.parse::<f64>() {
-            Ok(x) if digits > 16 && !glued => out.push_str(&readable_number(x)),
-            _ => out.push_str(run),
-        }
-        rest = &from[run.len()..];
-    }
-    out.push_str(rest);
-    out
 }
 
 /// A value -0.0 as 0.0: the same physics, so the same job (id, name and value).
