@@ -57,9 +57,10 @@ pub struct BenchArgs {
     /// timed site updates of each lattice-gas workload (after 1000 untimed steps)
     #[arg(long, default_value_t = 1e9)]
     pub site_updates: f64,
-    /// continue the EDMD job in this directory from its checkpoint (results/SWEEP/jobs/ID)
-    /// instead of running the standard workloads: timed over --collisions-per-particle, a
-    /// snapshot every tenth, after 2.5 untimed
+    /// continue the job in this directory from its checkpoint (results/SWEEP/jobs/ID)
+    /// instead of running the standard workloads. EDMD: timed over --collisions-per-particle,
+    /// a snapshot every tenth, after 2.5 untimed; DEM: --dem-steps on --threads (with
+    /// --lammps-out, the checkpoint's state also written for LAMMPS)
     #[arg(long, value_name = "JOB_DIR")]
     pub from_job: Option<std::path::PathBuf>,
     /// timed simulator moves of each DSMC workload (after 500 untimed steps)
@@ -485,6 +486,29 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         args.collisions_per_particle > 0.0,
         "--collisions-per-particle must be > 0"
     );
+    let dem_options = || DemBenchOptions {
+        warmup: args.dem_warmup,
+        steps: args.dem_steps,
+        threads: args.threads,
+        cache: dem_cache(&args),
+        lammps_out: args.lammps_out.clone(),
+    };
+    if let Some(dir) = args.from_job.as_ref().filter(|d| bench_dem::is_dem_job(d)) {
+        let r = bench_dem::measure_from_job(dir, &dem_options())?;
+        if args.json {
+            outln!("{}", serde_json::to_string_pretty(&[r])?);
+        } else {
+            outln!(
+                "{}: N = {}: {:.4e} particle-steps/s on {} thread(s), {:.2} contacts per particle",
+                r.workload,
+                r.n,
+                r.particle_steps_per_s.unwrap_or(f64::NAN),
+                r.threads.unwrap_or(1),
+                r.contacts_per_particle.unwrap_or(f64::NAN)
+            );
+        }
+        return Ok(());
+    }
     if let Some(dir) = &args.from_job {
         return run_from_job(dir, &args);
     }

@@ -129,7 +129,56 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
         .num_threads(o.threads)
         .build()?;
     let baseline = memory_baseline();
-    let mut engine = pool.install(|| warmed(w, &o.cache, o.warmup))?;
+    let engine = pool.install(|| warmed(w, &o.cache, o.warmup))?;
+    timed(w.name, engine, &pool, baseline, o)
+}
+
+/// Whether the job in `dir` has a checkpoint written by the DEM engine.
+pub fn is_dem_job(dir: &Path) -> bool {
+    crate::sweep::store::read_checkpoint(dir)
+        .ok()
+        .flatten()
+        .is_some_and(|c| crate::engine::envelope::open(&c.engine).is_ok_and(|s| s.engine == "dem"))
+}
+
+/// Time `steps` steps of the DEM job in `dir` continued from its last checkpoint (e.g. a
+/// channel at the paper's width, where the standard workloads' sizes say little); the
+/// `warmup` of the options is not used (the job's own run is the warm-up).
+pub fn measure_from_job(dir: &Path, o: &DemBenchOptions) -> anyhow::Result<BenchResult> {
+    let saved = crate::sweep::store::read_checkpoint(dir)?.ok_or_else(|| {
+        anyhow::anyhow!("{}: the job has no checkpoint to start from", dir.display())
+    })?;
+    let sealed = crate::engine::envelope::open(&saved.engine)
+        .with_context(|| format!("{}: checkpoint", dir.display()))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(o.threads)
+        .build()?;
+    let baseline = memory_baseline();
+    let engine = DemEngine::from_payload_of_version(sealed.version, sealed.payload)
+        .map_err(anyhow::Error::msg)
+        .with_context(|| format!("{}: not a DEM job's checkpoint", dir.display()))?;
+    let name = dir.file_name().map_or_else(
+        || dir.display().to_string(),
+        |f| f.to_string_lossy().into_owned(),
+    );
+    let at = engine.steps() as f64 * engine.params().time_step;
+    timed(
+        &format!("job {name} at t = {at:.1}"),
+        engine,
+        &pool,
+        baseline,
+        o,
+    )
+}
+
+/// Time `o.steps` steps of `engine` on `pool` (after writing it as LAMMPS input when asked).
+fn timed(
+    name: &str,
+    mut engine: DemEngine,
+    pool: &rayon::ThreadPool,
+    baseline: Option<f64>,
+    o: &DemBenchOptions,
+) -> anyhow::Result<BenchResult> {
     if let Some(dir) = &o.lammps_out {
         // LAMMPS starts without contact histories: so does the run timed here
         let mut states = engine.states();
@@ -162,7 +211,7 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
         "{}: {:.3} s timed: pair forces {:.3} s, particle pass (gather, walls, gravity, kicks, \
          drifts) {:.3} s, list rebuilds {:.3} s ({} rebuilds), samples {:.3} s; {:.2} listed \
          pairs per particle at the end",
-        w.name,
+        name,
         secs,
         now.pairs - stages.pairs,
         now.particles - stages.particles,
@@ -172,9 +221,9 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
         engine.listed_pairs() as f64 / n as f64
     );
     Ok(BenchResult {
-        workload: w.name.to_string(),
+        workload: name.to_string(),
         n,
-        phi: w.params.volume_fraction,
+        phi: engine.params().volume_fraction,
         // pair contacts evaluated per second (pair-steps in contact)
         collisions_per_s: contacts / secs,
         events_per_s: particle_steps,

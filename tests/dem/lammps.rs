@@ -532,3 +532,154 @@ fn the_export_names_the_file_and_the_key_it_refuses() {
     );
     assert!(!root.join("out").exists());
 }
+
+/// granflow and LAMMPS as two samples of one physics (issue 46; the long form is
+/// docs/scripts/dem_lammps_replicas.py): REPLICAS prepared states of dem-small's W = 10
+/// channel (B = 5, L = 10, phi-bar = 0.56, k_n = 1e5, the paper's walls; one preparation per
+/// seed), each run REPLICA_TIME time units by both codes from the same state (no histories),
+/// both analysed by granflow's dense analysis over the second half (LAMMPS' dump through the
+/// import), compared by [`same_physics`]: each replica in the same state in both codes (free
+/// fall or flowing), and over the flowing ones the paired differences of u_cm, u_max / u_slip,
+/// sigma_xx and beta within Student's t at the two-sided 0.1 % level (with 5 flowing
+/// replicas, 8.610 standard errors of the mean difference; the issue's LAMMPS replicas
+/// differed by 3.5 of one job's block errors, so the replicas' own spread is the scale).
+/// Identical laws give identical statistics whatever the chaos does to single trajectories;
+/// a different law must not pass: granflow with frictionless pairs (mu = 0 instead of the
+/// paper's 0.5) run from the same states must fail the same comparison for at least one
+/// quantity. (The other wall convention, a sphere rebounding from the walls with 0.755 instead
+/// of 0.82, is too small a change to show in 6 replicas of 30 time units: largest |t| 1.6.)
+#[test]
+fn replicas_of_granflow_and_lammps_agree_in_distribution() {
+    use granflow::analysis::dense::{DenseSettings, DenseSummary, analyse};
+    use granflow::engine::dem::imported::records_from_frames;
+    let Some(lmp) = lmp() else { return };
+    let root = scratch("dem_lammps_replicas");
+    let base = DemParams {
+        normal_stiffness: 1e5,
+        normal_damping: granflow::engine::dem::params::damping_for_restitution(0.82, 1e5),
+        time_step: granflow::engine::dem::params::default_time_step(1e5),
+        wall_damping: WallDamping::PairRestitution,
+        ..DemParams::channel(10.0, 5.0, 10.0, 0.56, 1)
+    };
+    let every = (1.0 / base.time_step).round() as u64;
+    let steps = every * REPLICA_TIME;
+    let settings = DenseSettings::default();
+    let granflow_run = |p: &DemParams, states: &[BodyState]| -> DenseSummary {
+        let mut e = DemEngine::from_state(p.clone(), states, &[]).unwrap();
+        e.take_sample();
+        let records: Vec<_> = (1..=REPLICA_TIME)
+            .map(|k| {
+                e.advance_to_step(k * every).unwrap();
+                e.take_sample().record
+            })
+            .collect();
+        analyse(&records, &settings).dense_summary
+    };
+    let (mut ours, mut theirs, mut other_law) = (Vec::new(), Vec::new(), Vec::new());
+    for seed in 1..=REPLICAS {
+        let p = DemParams {
+            seed,
+            ..base.clone()
+        };
+        let prepared = DemEngine::new(p.clone()).unwrap();
+        let mut states = prepared.states();
+        for s in &mut states {
+            s.wall_shear = [0.0; 3];
+        }
+        let dir = root.join(format!("seed-{seed}"));
+        let opts = lammps::ScriptOptions {
+            dump_every: every,
+            ..lammps::ScriptOptions::new(steps)
+        };
+        lammps::write(&dir, &p, &states, &opts).unwrap();
+        let frames = run_lammps(&lmp, &dir);
+        assert_eq!(frames.len() as u64, REPLICA_TIME + 1);
+        let records = records_from_frames(&p, &frames).unwrap();
+        theirs.push(analyse(&records, &settings).dense_summary);
+        ours.push(granflow_run(&p, &states));
+        let frictionless = DemParams { friction: 0.0, ..p };
+        other_law.push(granflow_run(&frictionless, &states));
+    }
+    println!("granflow against LAMMPS, {REPLICAS} replicas of {REPLICA_TIME} time units:");
+    if let Err(why) = same_physics(&ours, &theirs) {
+        panic!("granflow and LAMMPS differ: {why}");
+    }
+    println!("granflow with frictionless pairs against LAMMPS with the paper's mu = 0.5:");
+    assert!(
+        same_physics(&other_law, &theirs).is_err(),
+        "frictionless pairs pass the comparison: it cannot tell"
+    );
+}
+
+/// Whether two codes' replicas (the same prepared states, in order) look like one physics.
+/// First the state of each replica: a packing in free fall (the walls carry less than half its
+/// weight, beta < 0.5) in one code and flowing in the other is not chaos but another law. Then,
+/// over the replicas flowing in both, per quantity (u_cm, u_max / u_slip, sigma_xx, beta), the
+/// paired differences d_i must have a mean within the two-sided 0.1 % point of Student's t
+/// with n - 1 degrees of freedom of zero, in units of s_d / sqrt(n): the tolerance is the
+/// replicas' own spread, not one trajectory's block error (which understates it).
+fn same_physics(
+    a: &[granflow::analysis::dense::DenseSummary],
+    b: &[granflow::analysis::dense::DenseSummary],
+) -> Result<(), String> {
+    use granflow::analysis::dense::DenseSummary;
+    type Get = fn(&DenseSummary) -> f64;
+    let quantities: [(&str, Get); 4] = [
+        ("u_cm", |s| s.com_velocity),
+        ("u_max / u_slip", |s| s.velocity_ratio),
+        ("sigma_xx", |s| s.normal_stress),
+        ("beta", |s| s.wall_force_balance),
+    ];
+    let falls = |s: &DenseSummary| s.wall_force_balance < 0.5;
+    let mut flowing = Vec::new();
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        println!(
+            "  replica {}: beta {:.4} / {:.4}",
+            i + 1,
+            x.wall_force_balance,
+            y.wall_force_balance
+        );
+        match (falls(x), falls(y)) {
+            (false, false) => flowing.push((x, y)),
+            (true, true) => {}
+            _ => {
+                return Err(format!(
+                    "replica {}: free fall in one code only (beta {:.4} against {:.4})",
+                    i + 1,
+                    x.wall_force_balance,
+                    y.wall_force_balance
+                ));
+            }
+        }
+    }
+    let n = flowing.len();
+    if n < 4 {
+        return Err(format!(
+            "only {n} replicas flow in both codes: too few to compare"
+        ));
+    }
+    // two-sided 0.1 % points of Student's t with 3 ..= 7 degrees of freedom
+    let t_point = [12.924, 8.610, 6.869, 5.959, 5.408][n - 4];
+    for (name, get) in quantities {
+        let d: Vec<f64> = flowing.iter().map(|(x, y)| get(x) - get(y)).collect();
+        let nf = n as f64;
+        let mean = d.iter().sum::<f64>() / nf;
+        let sd = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (nf - 1.0)).sqrt();
+        let t = mean / (sd / nf.sqrt());
+        println!(
+            "  {name}: mean difference {mean:+.4} +- {:.4} over {n} flowing replicas, t = {t:+.2} (limit {t_point})",
+            sd / nf.sqrt()
+        );
+        if t.abs() > t_point {
+            return Err(format!(
+                "{name}: |t| = {:.2} > {t_point} over {n} replicas",
+                t.abs()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Replicas (seeds) of the distribution test, and how long each runs (time units).
+const REPLICAS: u64 = 6;
+const REPLICA_TIME: u64 = 30;
