@@ -10,10 +10,12 @@
 //! job's record log at every snapshot and made durable before each checkpoint names them.
 
 use super::grid::PlannedJob;
+pub use super::job_error::JobError;
 use super::store::{self, Claim, JobCheckpoint, JobResult, RecordLog};
-use crate::analysis::StopCheck;
+use crate::analysis::{Analyser, Record, StopCheck};
 use crate::engine::{Engine, StopAt};
 use crate::provenance::Provenance;
+use std::path::Path;
 use std::time::Instant;
 
 /// How a call to [`run_job`] ended.
@@ -37,114 +39,180 @@ pub struct JobProgress {
     pub events_per_second: f64,
 }
 
+/// A job between snapshots: its engine, the records so far (also in the record log) and
+/// the snapshot it is at.
+struct Running {
+    engine: Box<dyn Engine>,
+    records: Vec<Record>,
+    log: RecordLog,
+    /// the snapshot taken last
+    k: u32,
+    /// wall-clock seconds spent on the job before this call (from its checkpoint)
+    wall_before: f64,
+}
+
+/// Where the loop over snapshots ended.
+enum Advanced {
+    /// at the run length, or steady (`until_steady`): the stop reason ("" without a rule)
+    Reached(String),
+    /// after the snapshot `stop_after` asked for
+    Stopped,
+    /// the claim was lost
+    ClaimLost(String),
+}
+
 /// Run (or resume) a claimed job up to its end, or up to snapshot `stop_after`. The result is
-/// returned, not written: the caller's writer stores it. Engine errors come back as `Err`.
+/// returned, not written: the caller's writer stores it. Errors come back by kind
+/// ([`JobError`]): a resource error leaves the job resumable.
 pub fn run_job(
     job: &PlannedJob,
     claim: &Claim,
     stop_after: Option<u32>,
     on_progress: &mut dyn FnMut(JobProgress),
-) -> anyhow::Result<JobEnd> {
-    let dir = &claim.dir;
-    let run = &job.params.run;
-    let clock = run.clock();
-    let analyser = job.params.analyser().map_err(anyhow::Error::msg)?;
-    let total = run.snapshot_count();
+) -> Result<JobEnd, JobError> {
+    let analyser = job.params.analyser()?;
     let started = Instant::now();
+    let mut running = start_or_resume(job, &claim.dir, &analyser, started)?;
+    if running.engine.def().name != job.params.engine {
+        return Err(JobError::Engine(format!(
+            "the checkpoint holds a {} engine, the job runs {}",
+            running.engine.def().name,
+            job.params.engine
+        )));
+    }
+    let stop_reason = match advance(
+        job,
+        claim,
+        &analyser,
+        &mut running,
+        stop_after,
+        started,
+        on_progress,
+    )? {
+        Advanced::Reached(reason) => reason,
+        Advanced::Stopped => return Ok(JobEnd::Stopped),
+        Advanced::ClaimLost(why) => return Ok(JobEnd::ClaimLost(why)),
+    };
+    finish(job, &claim.dir, &analyser, running, stop_reason, started)
+        .map(|r| JobEnd::Finished(Box::new(r)))
+}
+
+/// The job's state from its last checkpoint, or (without one) a new engine with its first
+/// snapshot recorded and checkpoint 0 written.
+fn start_or_resume(
+    job: &PlannedJob,
+    dir: &Path,
+    analyser: &Analyser,
+    started: Instant,
+) -> Result<Running, JobError> {
     let build = format!(
         "[{} on {}]",
         crate::provenance::Provenance::build(),
         crate::provenance::host()
     );
-    let (mut engine, mut records, mut log, mut k, wall_before) = match store::read_checkpoint(dir)?
-    {
-        Some(cp) => {
-            let (log, records) = RecordLog::resume(dir, &job.id.0, &cp)?;
-            store::log(dir, &format!("resume at snapshot {} {build}", cp.snapshot))?;
-            let mut engine: Box<dyn Engine> = crate::registry::restore(&cp.engine)?;
-            // free paths are not part of the engine's state: switched on again (the
-            // checkpoint was taken right after a snapshot had emptied the tally)
-            if let Some(slabs) = analyser.free_path_slabs() {
-                engine.record_free_paths(slabs);
-            }
-            (engine, records, log, cp.snapshot, cp.wall_seconds)
+    if let Some(cp) = store::read_checkpoint(dir)? {
+        let (log, records) = RecordLog::resume(dir, &job.id.0, &cp)?;
+        store::log(dir, &format!("resume at snapshot {} {build}", cp.snapshot))?;
+        let mut engine: Box<dyn Engine> = crate::registry::restore(&cp.engine)?;
+        // free paths are not part of the engine's state: switched on again (the checkpoint
+        // was taken right after a snapshot had emptied the tally)
+        if let Some(slabs) = analyser.free_path_slabs() {
+            engine.record_free_paths(slabs);
         }
-        None => {
-            let mut engine = job.params.build_engine()?;
-            if let Some(slabs) = analyser.free_path_slabs() {
-                engine.record_free_paths(slabs);
-            }
-            let snap = engine.snapshot();
-            let paths = engine.take_free_paths();
-            let records = vec![
-                analyser
-                    .record_with(&snap, 0, paths)
-                    .map_err(anyhow::Error::msg)?,
-            ];
-            let mut log = RecordLog::start(dir, &job.id.0)?;
-            log.append(&records[0])?;
-            log.sync()?;
-            // checkpoint 0 first, then the log line: a job is "started" once its initial
-            // state is on disk; a kill before that leaves nothing to resume and no trace
-            store::write_checkpoint(
-                dir,
-                &JobCheckpoint::new(
-                    &job.id.0,
-                    0,
-                    engine.checkpoint(),
-                    &log,
-                    started.elapsed().as_secs_f64(),
-                    snap.progress,
-                ),
-            )?;
-            store::log(dir, &format!("start {build}"))?;
-            (engine, records, log, 0, 0.0)
-        }
-    };
-    anyhow::ensure!(
-        engine.def().name == job.params.engine,
-        "the checkpoint holds a {} engine, the job runs {}",
-        engine.def().name,
-        job.params.engine
-    );
-    let events_at_start = engine.progress().events;
+        return Ok(Running {
+            engine,
+            records,
+            log,
+            k: cp.snapshot,
+            wall_before: cp.wall_seconds,
+        });
+    }
+    let mut engine = job.params.build_engine()?;
+    if let Some(slabs) = analyser.free_path_slabs() {
+        engine.record_free_paths(slabs);
+    }
+    let snap = engine.snapshot();
+    let paths = engine.take_free_paths();
+    let records = vec![analyser.record_with(&snap, 0, paths)?];
+    let mut log = RecordLog::start(dir, &job.id.0)?;
+    log.append(&records[0])?;
+    log.sync()?;
+    // checkpoint 0 first, then the log line: a job is "started" once its initial state is on
+    // disk; a kill before that leaves nothing to resume and no trace
+    store::write_checkpoint(
+        dir,
+        &JobCheckpoint::new(
+            &job.id.0,
+            0,
+            engine.checkpoint(),
+            &log,
+            started.elapsed().as_secs_f64(),
+            snap.progress,
+        ),
+    )?;
+    store::log(dir, &format!("start {build}"))?;
+    Ok(Running {
+        engine,
+        records,
+        log,
+        k: 0,
+        wall_before: 0.0,
+    })
+}
+
+/// Snapshot after snapshot up to the run length (or until steady, or `stop_after`): record
+/// each, checkpoint at the fixed cadence, report progress.
+fn advance(
+    job: &PlannedJob,
+    claim: &Claim,
+    analyser: &Analyser,
+    at: &mut Running,
+    stop_after: Option<u32>,
+    started: Instant,
+    on_progress: &mut dyn FnMut(JobProgress),
+) -> Result<Advanced, JobError> {
+    let run = &job.params.run;
+    let clock = run.clock();
+    let total = run.snapshot_count();
+    let events_at_start = at.engine.progress().events;
     let mut check = StopCheck::default();
-    let mut stop_reason = String::new();
-    while k < total {
+    while at.k < total {
         // run until steady: asked after every snapshot (also right after a resume, so that a
         // job killed after its deciding snapshot stops where the uninterrupted one did)
         if let Some(rule) = &run.until_steady
-            && run.past_milestones(engine.def(), &engine.progress())
-            && let Some(reason) = analyser.steady_over(&records, clock, rule.window, &mut check)
+            && run.past_milestones(at.engine.def(), &at.engine.progress())
+            && let Some(reason) = analyser.steady_over(&at.records, clock, rule.window, &mut check)
         {
-            stop_reason = format!("stopped at snapshot {k}: {reason}");
-            break;
+            return Ok(Advanced::Reached(format!(
+                "stopped at snapshot {}: {reason}",
+                at.k
+            )));
         }
-        if stop_after.is_some_and(|s| k >= s) {
-            return Ok(JobEnd::Stopped);
+        if stop_after.is_some_and(|s| at.k >= s) {
+            return Ok(Advanced::Stopped);
         }
-        k += 1;
-        engine.advance(StopAt::on(clock, run.snapshot_target(k)))?;
-        let snap = engine.snapshot();
-        let paths = engine.take_free_paths();
-        let record = analyser
-            .record_with(&snap, k, paths)
-            .map_err(anyhow::Error::msg)?;
-        log.append(&record)?;
-        records.push(record);
+        at.k += 1;
+        let k = at.k;
+        at.engine
+            .advance(StopAt::on(clock, run.snapshot_target(k)))?;
+        let snap = at.engine.snapshot();
+        let paths = at.engine.take_free_paths();
+        let record = analyser.record_with(&snap, k, paths)?;
+        at.log.append(&record)?;
+        at.records.push(record);
         if k % run.checkpoint_every == 0 || k == total {
             if let Err(why) = claim.still_held() {
-                return Ok(JobEnd::ClaimLost(why));
+                return Ok(Advanced::ClaimLost(why));
             }
-            log.sync()?;
+            at.log.sync()?;
             store::write_checkpoint(
-                dir,
+                &claim.dir,
                 &JobCheckpoint::new(
                     &job.id.0,
                     k,
-                    engine.checkpoint(),
-                    &log,
-                    wall_before + started.elapsed().as_secs_f64(),
+                    at.engine.checkpoint(),
+                    &at.log,
+                    at.wall_before + started.elapsed().as_secs_f64(),
                     snap.progress,
                 ),
             )?;
@@ -156,38 +224,55 @@ pub fn run_job(
             events_per_second: (snap.progress.events - events_at_start) as f64 / secs,
         });
     }
-    if run.until_steady.is_some() && stop_reason.is_empty() {
-        stop_reason = format!(
+    let reason = match &run.until_steady {
+        Some(rule) => format!(
             "reached the cap of {} {} before a steady window of {} with a stable label",
             run.length(),
             clock.key(),
-            run.until_steady.as_ref().map_or(0.0, |u| u.window)
-        );
-    }
-    let snap = engine.snapshot();
-    let analysis = analyser
-        .analyse(&records)
-        .map_err(|e| anyhow::anyhow!("analysing the job's {} records: {e}", records.len()))?;
+            rule.window
+        ),
+        None => String::new(),
+    };
+    Ok(Advanced::Reached(reason))
+}
+
+/// Analyse the records, draw the job's figures and assemble its result.
+fn finish(
+    job: &PlannedJob,
+    dir: &Path,
+    analyser: &Analyser,
+    mut at: Running,
+    stop_reason: String,
+    started: Instant,
+) -> Result<JobResult, JobError> {
+    let snap = at.engine.snapshot();
+    let analysis = analyser.analyse(&at.records).map_err(|e| {
+        JobError::Analysis(format!(
+            "analysing the job's {} records: {e}",
+            at.records.len()
+        ))
+    })?;
     // the figures are a view of the result: one that cannot be drawn is logged, not a failed
     // job (a full disk still stops the run, as any other write does)
-    let figures = crate::job_figures::figures(&job.heading(), &analysis, &records);
+    let figures = crate::job_figures::figures(&job.heading(), &analysis, &at.records);
     if let Err(e) = crate::job_figures::write(dir, &figures) {
-        if super::fs_error::is_resource_error(&e) {
+        let e = JobError::from(e);
+        if e.is_resource() {
             return Err(e);
         }
-        store::log(dir, &format!("figures not written: {e:#}"))?;
+        store::log(dir, &format!("figures not written: {e}"))?;
     }
-    let wall_seconds = wall_before + started.elapsed().as_secs_f64();
+    let wall_seconds = at.wall_before + started.elapsed().as_secs_f64();
     let def = job.params.def();
     let mut provenance = Provenance::here(def.version, crate::registry::analysis_of(def).version());
     provenance.started = store::first_start(dir).unwrap_or_default();
     provenance.finished = crate::provenance::now();
-    Ok(JobEnd::Finished(Box::new(JobResult {
+    Ok(JobResult {
         format: store::RESULT_FORMAT,
         id: job.id.0.clone(),
         engine: job.params.engine.clone(),
-        particles: engine.particle_count(),
-        snapshots: k,
+        particles: at.engine.particle_count(),
+        snapshots: at.k,
         collisions_per_particle: snap.progress.collisions_per_particle,
         time: snap.progress.time,
         steps: snap.progress.steps,
@@ -198,5 +283,5 @@ pub fn run_job(
         provenance,
         checksum: String::new(),
         analysis,
-    })))
+    })
 }

@@ -19,6 +19,7 @@ pub mod execute;
 pub mod fs_error;
 pub mod grid;
 pub mod job;
+mod job_error;
 pub mod phase;
 pub mod ranges;
 mod readable;

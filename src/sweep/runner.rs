@@ -3,11 +3,11 @@
 //! outcome to a single writer thread over a crossbeam channel.
 
 use super::eta::SweepEta;
-use super::execute::{self, JobEnd};
+use super::execute::{self, JobEnd, JobError};
 use super::grid::PlannedJob;
 use super::store::{self, Claim, JobResult, JobState, NotClaimed};
 use super::{Sweep, SweepDirs, tables};
-use crossbeam_channel::unbounded;
+use crossbeam_channel::{Receiver, Sender, unbounded};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::sync::Mutex;
@@ -92,25 +92,75 @@ fn progress_interval() -> std::time::Duration {
     std::time::Duration::from_secs_f64(secs)
 }
 
-/// Select the jobs of a plan in `range` (plan indices [start, end)).
-pub fn select(plan: &[PlannedJob], range: Option<(usize, usize)>) -> Vec<&PlannedJob> {
+/// The jobs of a plan in `range` (plan indices [start, end)).
+fn in_range(plan: &[PlannedJob], range: Option<(usize, usize)>) -> Vec<&PlannedJob> {
     plan.iter()
         .filter(|j| range.is_none_or(|(a, b)| j.index >= a && j.index < b))
         .collect()
 }
 
-/// Run the jobs of a sweep that are not done yet; write the tables at the end.
+/// Run the jobs of a sweep that are not done yet; write the tables at the end. The stages, in
+/// order: [`expand`] (the jobs this run is about), [`select`] (which of them to run, largest
+/// first), [`run`] (run them: workers and one writer), [`gather`] (the tables).
 pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::Result<RunSummary> {
+    let jobs = expand(sweep, dirs, opts)?;
+    let (todo, mut summary) = select(&jobs, dirs, opts)?;
+    let show = Show::new(sweep, opts, jobs.len(), &todo, summary.already_done);
+    show.say(format!(
+        "sweep {}: {} selected, {} done, {} to run{} on {} (results in {})",
+        sweep.name,
+        counted(jobs.len(), "job"),
+        summary.already_done,
+        todo.len(),
+        if summary.outdated > 0 {
+            format!(" ({} of them outdated results)", summary.outdated)
+        } else {
+            String::new()
+        },
+        counted(opts.threads, "thread"),
+        dirs.tables.display()
+    ));
+    run(sweep, dirs, opts, &todo, &show, &mut summary)?;
+    gather(sweep, dirs, opts, &show, &summary)?;
+    show.say(format!(
+        "run finished: {} done now ({} before), {} failed, {} skipped as failed, {} held by another runner",
+        summary.finished,
+        summary.already_done,
+        summary.failed,
+        summary.skipped_failed,
+        summary.busy
+    ));
+    Ok(summary)
+}
+
+/// Stage 1: the jobs this run is about, the plan's (in `job_range`), with the resolved sweep
+/// written first when asked.
+fn expand<'a>(
+    sweep: &'a Sweep,
+    dirs: &SweepDirs,
+    opts: &RunOptions,
+) -> anyhow::Result<Vec<&'a PlannedJob>> {
     if opts.write_resolved {
         sweep.write_resolved(dirs)?;
     }
-    let selected = select(&sweep.plan, opts.job_range);
+    Ok(in_range(&sweep.plan, opts.job_range))
+}
+
+/// Stage 2: which jobs to run, from the state of each one's directory (made when missing):
+/// done ones are counted (or set aside when outdated and `rerun_outdated`), failed and damaged
+/// ones skipped unless `retry_failed`. The jobs to run come largest estimated work first, in
+/// plan order among equals; the summary counts the rest.
+fn select<'a>(
+    jobs: &[&'a PlannedJob],
+    dirs: &SweepDirs,
+    opts: &RunOptions,
+) -> anyhow::Result<(Vec<&'a PlannedJob>, RunSummary)> {
     let mut summary = RunSummary {
-        selected: selected.len(),
+        selected: jobs.len(),
         ..Default::default()
     };
     let mut todo = Vec::new();
-    for job in &selected {
+    for job in jobs {
         let dir = dirs.job_dir(&job.id);
         store::init_job_dir(&dir, job)?;
         // with --retry-failed, done results are read and checked too (damaged ones are then
@@ -150,67 +200,169 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
             _ => todo.push(*job),
         }
     }
-    // largest estimated work first; plan order among equals
     todo.sort_by(|a, b| {
         b.params
             .estimated_work()
             .total_cmp(&a.params.estimated_work())
             .then(a.index.cmp(&b.index))
     });
+    Ok((todo, summary))
+}
 
-    let interactive = std::io::stderr().is_terminal();
-    let progress_every = progress_interval();
-    let multi = MultiProgress::new();
-    if !interactive {
-        multi.set_draw_target(ProgressDrawTarget::hidden());
+/// Stage 3: run the selected jobs on a pool of `threads` workers, each outcome stored by one
+/// writer thread; the summary gets what happened.
+fn run(
+    sweep: &Sweep,
+    dirs: &SweepDirs,
+    opts: &RunOptions,
+    todo: &[&PlannedJob],
+    show: &Show,
+    summary: &mut RunSummary,
+) -> anyhow::Result<()> {
+    let run = Run {
+        dirs,
+        opts,
+        todo,
+        show,
+        // a job is named by its swept parameters in progress lines (its id where nothing varies)
+        swept: super::phase::swept_in(sweep),
+        engine: sweep.engine(),
+        next: AtomicUsize::new(0),
+        busy: AtomicUsize::new(0),
+        halted: Mutex::new(None),
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.max(1))
+        .build()?;
+    let (tx, rx) = unbounded::<Message>();
+    std::thread::scope(|scope| {
+        let writer = scope.spawn(|| run.write(rx));
+        pool.scope(|s| {
+            for _ in 0..opts.threads.max(1) {
+                let tx = tx.clone();
+                s.spawn(|_| run.work(tx));
+            }
+        });
+        drop(tx);
+        writer.join().expect("writer thread");
+    });
+    show.overall.finish_and_clear();
+    let (finished, failed) = *show.counts.lock().expect("counts");
+    summary.finished = finished;
+    summary.failed = failed;
+    summary.busy = run.busy.load(Ordering::Relaxed);
+    summary.halted = run.halted.into_inner().expect("halted");
+    Ok(())
+}
+
+/// Stage 4: the sweep's tables, unless not asked or a resource error stopped the run.
+fn gather(
+    sweep: &Sweep,
+    dirs: &SweepDirs,
+    opts: &RunOptions,
+    show: &Show,
+    summary: &RunSummary,
+) -> anyhow::Result<()> {
+    if opts.write_tables && summary.halted.is_none() {
+        let written = tables::gather(sweep, dirs)?;
+        show.say(format!(
+            "tables: {} in {}",
+            written.counts(),
+            dirs.tables.display()
+        ));
     }
-    let say = |line: String| {
-        if interactive {
-            let _ = multi.println(line);
+    Ok(())
+}
+
+/// What a run shows: the sweep's progress bar and ETA and one bar per running job on a
+/// terminal; plain lines otherwise (a Slurm log, a file).
+struct Show<'a> {
+    name: &'a str,
+    /// jobs selected
+    selected: usize,
+    interactive: bool,
+    /// wall-clock time between plain progress lines
+    every: std::time::Duration,
+    multi: MultiProgress,
+    overall: ProgressBar,
+    eta: SweepEta,
+    /// jobs done and failed in this run
+    counts: Mutex<(usize, usize)>,
+    /// jobs with a result: the sweep line counts them, failed and stopped jobs apart
+    done: AtomicUsize,
+    /// when the last plain sweep line was shown
+    last_sweep_line: Mutex<std::time::Instant>,
+}
+
+impl<'a> Show<'a> {
+    fn new(
+        sweep: &'a Sweep,
+        opts: &RunOptions,
+        selected: usize,
+        todo: &[&PlannedJob],
+        already_done: usize,
+    ) -> Self {
+        let interactive = std::io::stderr().is_terminal();
+        let multi = MultiProgress::new();
+        if !interactive {
+            multi.set_draw_target(ProgressDrawTarget::hidden());
+        }
+        let total_work: f64 = todo.iter().map(|j| j.params.estimated_work()).sum();
+        let eta = SweepEta::new(
+            todo.iter().map(|j| j.params.estimated_work()).collect(),
+            opts.threads.max(1),
+        );
+        let overall = multi.add(ProgressBar::new(total_work.max(1.0) as u64));
+        overall.set_style(
+            ProgressStyle::with_template("{prefix} [{bar:30}] {msg}")
+                .expect("valid template")
+                .progress_chars("=> "),
+        );
+        overall.set_message("ETA ?");
+        super::running::set_done(already_done);
+        let show = Show {
+            name: &sweep.name,
+            selected,
+            interactive,
+            every: progress_interval(),
+            multi,
+            overall,
+            eta,
+            counts: Mutex::new((0, 0)),
+            done: AtomicUsize::new(already_done),
+            last_sweep_line: Mutex::new(std::time::Instant::now()),
+        };
+        show.set_overall(already_done);
+        show
+    }
+
+    fn say(&self, line: String) {
+        if self.interactive {
+            let _ = self.multi.println(line);
         } else {
             super::say(&line);
         }
-    };
-    let total_work: f64 = todo.iter().map(|j| j.params.estimated_work()).sum();
-    let eta = SweepEta::new(
-        todo.iter().map(|j| j.params.estimated_work()).collect(),
-        opts.threads.max(1),
-    );
-    let overall = multi.add(ProgressBar::new(total_work.max(1.0) as u64));
-    overall.set_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {msg}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    overall.set_message("ETA ?");
-    // jobs done and failed in this run
-    let counts = Mutex::new((0usize, 0usize));
-    // jobs with a result: the sweep line counts them, failed and stopped jobs apart
-    let done_count = AtomicUsize::new(summary.already_done);
-    super::running::set_done(summary.already_done);
-    let set_overall = |done: usize| {
-        overall.set_prefix(format!(
-            "{}: {done}/{} jobs done",
-            sweep.name,
-            selected.len()
-        ));
-    };
-    set_overall(summary.already_done);
-    // without a terminal: the sweep's progress as a plain line, after each finished job and at
-    // most once per progress interval while jobs run
-    let last_sweep_line = Mutex::new(std::time::Instant::now());
-    let sweep_line = |done: usize| {
+    }
+
+    fn set_overall(&self, done: usize) {
+        self.overall
+            .set_prefix(format!("{}: {done}/{} jobs done", self.name, self.selected));
+    }
+
+    /// The sweep's progress as a plain line.
+    fn sweep_line(&self, done: usize) -> String {
+        let overall = &self.overall;
         let fraction = overall.position() as f64 / overall.length().unwrap_or(1).max(1) as f64;
         let eta = if fraction < 1.0 {
-            eta.text()
+            self.eta.text()
         } else {
             String::new()
         };
-        let failed = counts.lock().expect("counts").1;
+        let failed = self.counts.lock().expect("counts").1;
         format!(
             "sweep   {}: {done}/{} jobs done{}, {:.0} % of the estimated work{eta}",
-            sweep.name,
-            selected.len(),
+            self.name,
+            self.selected,
             if failed > 0 {
                 format!(" ({failed} failed)")
             } else {
@@ -218,34 +370,143 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
             },
             100.0 * fraction
         )
-    };
-    say(format!(
-        "sweep {}: {} selected, {} done, {} to run{} on {} (results in {})",
-        sweep.name,
-        counted(selected.len(), "job"),
-        summary.already_done,
-        todo.len(),
-        if summary.outdated > 0 {
-            format!(" ({} of them outdated results)", summary.outdated)
-        } else {
-            String::new()
-        },
-        counted(opts.threads, "thread"),
-        dirs.tables.display()
-    ));
+    }
 
-    // a job is named by its swept parameters in progress lines (its id where nothing varies)
-    let swept = super::phase::swept_in(sweep);
-    let point_of = |job: &PlannedJob| super::phase::point_text(sweep.engine(), &job.params, &swept);
-    let point = swept.clone();
-    let (tx, rx) = unbounded::<Message>();
-    let next = AtomicUsize::new(0);
-    let busy = AtomicUsize::new(0);
-    let halted: Mutex<Option<String>> = Mutex::new(None);
-    // a resource error: the job stays resumable (not failed), and the run stops starting jobs
-    let halt = |job: &PlannedJob, dir: &std::path::Path, err: &str| {
+    /// A job's outcome line; without a terminal the sweep line after it.
+    fn ended(&self, line: String) {
+        let done = self.done.load(Ordering::Relaxed);
+        self.set_overall(done);
+        self.say(line);
+        if !self.interactive {
+            self.say(self.sweep_line(done));
+        }
+    }
+
+    /// Without a terminal: the sweep line at most once per progress interval.
+    fn sweep_line_now_and_then(&self) {
+        let mut last = self.last_sweep_line.lock().expect("sweep line");
+        if last.elapsed() >= self.every {
+            *last = std::time::Instant::now();
+            self.say(self.sweep_line(self.done.load(Ordering::Relaxed)));
+        }
+    }
+}
+
+/// The stage [`run`]: what its workers and its writer share.
+struct Run<'a> {
+    dirs: &'a SweepDirs,
+    opts: &'a RunOptions,
+    todo: &'a [&'a PlannedJob],
+    show: &'a Show<'a>,
+    swept: Vec<&'static str>,
+    engine: &'static crate::engine::EngineDef,
+    /// the index in `todo` of the next job a worker takes
+    next: AtomicUsize,
+    /// jobs held by another runner (or lost to one)
+    busy: AtomicUsize,
+    /// the first resource error: no job starts after it
+    halted: Mutex<Option<String>>,
+}
+
+impl<'a> Run<'a> {
+    /// A job named by its swept parameters.
+    fn point_of(&self, job: &PlannedJob) -> String {
+        super::phase::point_text(self.engine, &job.params, &self.swept)
+    }
+
+    /// A worker: claims the next job, runs it and sends its outcome to the writer, until no job
+    /// is left or a resource error stopped the run.
+    fn work(&self, tx: Sender<Message<'a>>) {
+        loop {
+            // after a resource error no new job starts
+            if self.halted.lock().expect("halted").is_some() {
+                break;
+            }
+            let i = self.next.fetch_add(1, Ordering::Relaxed);
+            let Some(&job) = self.todo.get(i) else { break };
+            let Some(claim) = self.claim(job) else {
+                self.show.eta.end(i);
+                continue;
+            };
+            let outcome = self.run_claimed(i, job, &claim);
+            let _ = tx.send(Message {
+                job,
+                claim,
+                outcome,
+            });
+        }
+    }
+
+    /// The job's claim, or why not (said; None).
+    fn claim(&self, job: &PlannedJob) -> Option<Claim> {
+        let dir = self.dirs.job_dir(&job.id);
+        match store::try_claim(&dir, self.opts.retry_failed) {
+            Ok(Ok(c)) => Some(c),
+            Ok(Err(NotClaimed::Busy)) => {
+                self.busy.fetch_add(1, Ordering::Relaxed);
+                self.show.say(format!(
+                    "busy    {} [{}]: held by another runner",
+                    job.id, job.index
+                ));
+                None
+            }
+            Ok(Err(NotClaimed::Damaged(reason))) => {
+                self.show.say(format!(
+                    "damaged {} [{}]: {reason} (rerun with --retry-failed)",
+                    job.id, job.index
+                ));
+                None
+            }
+            Ok(Err(_)) => None,
+            Err(e) => {
+                self.show.say(format!(
+                    "error   {} [{}]: cannot claim: {e}",
+                    job.id, job.index
+                ));
+                None
+            }
+        }
+    }
+
+    /// Run a claimed job (the `i`-th to run) with its progress bar; a panic is a failure.
+    fn run_claimed(&self, i: usize, job: &PlannedJob, claim: &Claim) -> Outcome {
+        let show = self.show;
+        super::running::started(&claim.dir);
+        let bar = show
+            .multi
+            .insert_before(&show.overall, ProgressBar::new(1000));
+        bar.set_style(
+            ProgressStyle::with_template("  {prefix} [{bar:20}] {msg}")
+                .expect("valid template")
+                .progress_chars("=> "),
+        );
+        bar.set_prefix(if self.swept.is_empty() {
+            job.id.0.clone()
+        } else {
+            self.point_of(job)
+        });
+        let mut progress = JobBar::new(self, i, job, &bar, &claim.dir);
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            execute::run_job(job, claim, None, &mut |p| progress.update(p))
+        }));
+        bar.finish_and_clear();
+        show.multi.remove(&bar);
+        show.eta.end(i);
+        let outcome = outcome_of(result);
+        if let Outcome::Halted(err) = &outcome {
+            // stop the other workers from starting jobs right away
+            self.halted
+                .lock()
+                .expect("halted")
+                .get_or_insert_with(|| err.clone());
+        }
+        outcome
+    }
+
+    /// A resource error: the job stays resumable (not failed), and the run stops starting jobs.
+    fn halt(&self, job: &PlannedJob, dir: &std::path::Path, err: &str) -> String {
         let _ = store::log(dir, &format!("stopped by a resource error: {err}"));
-        halted
+        self.halted
             .lock()
             .expect("halted")
             .get_or_insert_with(|| err.to_string());
@@ -253,268 +514,189 @@ pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::
             "STOPPED {} [{}]: {err}; the job stays resumable from its last checkpoint, no new job starts",
             job.id, job.index
         )
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads.max(1))
-        .build()?;
-    std::thread::scope(|scope| {
-        // the single writer: stores outcomes, then releases the claim
-        let writer = scope.spawn(|| {
-            for msg in rx {
-                let job = msg.job;
-                let dir = &msg.claim.dir;
-                // a claim lost while the job ran (or while its result waited here) writes
-                // nothing: another runner may hold the job now
-                let lost = match &msg.outcome {
-                    Outcome::ClaimLost(why) => Some(why.clone()),
-                    _ => msg.claim.still_held().err(),
-                };
-                let line = match &msg.outcome {
-                    _ if lost.is_some() => {
-                        let why = lost.unwrap_or_default();
-                        let _ = store::log(
-                            dir,
-                            &format!("claim lost: {why}; stopped without a result"),
-                        );
-                        busy.fetch_add(1, Ordering::Relaxed);
-                        format!(
-                            "lost    {} [{}]: {why}; stopped without a result",
-                            job.id, job.index
-                        )
-                    }
-                    Outcome::ClaimLost(_) => unreachable!("handled above"),
-                    Outcome::Halted(err) => halt(job, dir, err),
-                    Outcome::Finished(result) => match store::write_result(dir, result) {
-                        Ok(checksum) => {
-                            let _ = store::log(dir, &store::done_line(&checksum));
-                            counts.lock().expect("counts").0 += 1;
-                            done_count.fetch_add(1, Ordering::Relaxed);
-                            super::running::add_done();
-                            format!(
-                                "done    {} [{}] {}: {}, {:.1} s, {:.3e} events/s",
-                                job.id,
-                                job.index,
-                                point_of(job),
-                                crate::analysis::labels::label_key(
-                                    result.analysis.label().0,
-                                    result.analysis.label().1
-                                ),
-                                result.wall_seconds,
-                                result.events_per_second
-                            )
-                        }
-                        Err(e) if super::fs_error::is_resource_error(&e) => {
-                            halt(job, dir, &format!("writing the result: {e:#}"))
-                        }
-                        Err(e) => {
-                            let _ = store::mark_failed(dir, &format!("writing the result: {e:#}"));
-                            counts.lock().expect("counts").1 += 1;
-                            format!(
-                                "FAILED  {} [{}] {}: writing the result: {e:#}",
-                                job.id,
-                                job.index,
-                                point_of(job)
-                            )
-                        }
-                    },
-                    Outcome::Failed(err) => {
-                        let _ = store::mark_failed(dir, err);
-                        counts.lock().expect("counts").1 += 1;
-                        format!(
-                            "FAILED  {} [{}] {}: {err}",
-                            job.id,
-                            job.index,
-                            point_of(job)
-                        )
-                    }
-                };
-                super::running::ended(dir);
-                drop(msg.claim);
-                let done = done_count.load(Ordering::Relaxed);
-                set_overall(done);
-                say(line);
-                if !interactive {
-                    say(sweep_line(done));
-                }
-            }
-        });
-        pool.scope(|s| {
-            for _ in 0..opts.threads.max(1) {
-                let tx = tx.clone();
-                s.spawn(|_| {
-                    let tx = tx;
-                    loop {
-                        // after a resource error no new job starts
-                        if halted.lock().expect("halted").is_some() {
-                            break;
-                        }
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(job) = todo.get(i) else { break };
-                        let dir = dirs.job_dir(&job.id);
-                        let claim = match store::try_claim(&dir, opts.retry_failed) {
-                            Ok(Ok(c)) => c,
-                            Ok(Err(NotClaimed::Busy)) => {
-                                busy.fetch_add(1, Ordering::Relaxed);
-                                say(format!(
-                                    "busy    {} [{}]: held by another runner",
-                                    job.id, job.index
-                                ));
-                                eta.end(i);
-                                continue;
-                            }
-                            Ok(Err(NotClaimed::Damaged(reason))) => {
-                                say(format!(
-                                    "damaged {} [{}]: {reason} (rerun with --retry-failed)",
-                                    job.id, job.index
-                                ));
-                                eta.end(i);
-                                continue;
-                            }
-                            Ok(Err(_)) => {
-                                eta.end(i);
-                                continue;
-                            }
-                            Err(e) => {
-                                say(format!(
-                                    "error   {} [{}]: cannot claim: {e}",
-                                    job.id, job.index
-                                ));
-                                eta.end(i);
-                                continue;
-                            }
-                        };
-                        super::running::started(&dir);
-                        let bar = multi.insert_before(&overall, ProgressBar::new(1000));
-                        bar.set_style(
-                            ProgressStyle::with_template("  {prefix} [{bar:20}] {msg}")
-                                .expect("valid template")
-                                .progress_chars("=> "),
-                        );
-                        bar.set_prefix(if point.is_empty() {
-                            job.id.0.clone()
-                        } else {
-                            point_of(job)
-                        });
-                        // work per unit of the run's clock (the estimate is linear in it)
-                        let work_per_clock = job.params.estimated_work() / job.params.run.length();
-                        let unit = job.params.run.clock().unit();
-                        let clock = job.params.run.clock();
-                        let mut last =
-                            store::checkpoint_progress(&dir).map_or(0.0, |p| p.on(clock));
-                        overall.inc((last * work_per_clock) as u64);
-                        eta.start(i, (job.params.run.length() - last) * work_per_clock);
-                        let started = std::time::Instant::now();
-                        let (start_clock, mut printed) = (last, std::time::Instant::now());
-                        let mut on_progress = |p: execute::JobProgress| {
-                            bar.set_position((1000.0 * p.clock / p.target) as u64);
-                            bar.set_message(format!(
-                                "{:.0}/{:.0} {unit}, {:.2e} events/s",
-                                p.clock, p.target, p.events_per_second
-                            ));
-                            let delta = (p.clock - last).max(0.0);
-                            overall.inc((delta * work_per_clock) as u64);
-                            eta.progress(
-                                i,
-                                delta * work_per_clock,
-                                (p.target - p.clock) * work_per_clock,
-                            );
-                            if interactive {
-                                overall.set_message(eta.text().trim_start_matches(", ").to_string());
-                            }
-                            last = p.clock;
-                            // without a terminal (a Slurm log, a file): a plain line per job at
-                            // a fixed wall-clock interval (output only; the run never depends
-                            // on it)
-                            if !interactive && printed.elapsed() >= progress_every {
-                                printed = std::time::Instant::now();
-                                let rate = (p.clock - start_clock)
-                                    / started.elapsed().as_secs_f64().max(1e-9);
-                                let eta = if rate > 0.0 {
-                                    format!("{:.0} s", (p.target - p.clock) / rate)
-                                } else {
-                                    "?".into()
-                                };
-                                say(format!(
-                                    "running {} [{}] {}: {:.0}/{:.0} {unit}, {:.2e} events/s, ETA {eta}",
-                                    job.id,
-                                    job.index,
-                                    point_of(job),
-                                    p.clock,
-                                    p.target,
-                                    p.events_per_second
-                                ));
-                                let mut last_sweep = last_sweep_line.lock().expect("sweep line");
-                                if last_sweep.elapsed() >= progress_every {
-                                    *last_sweep = std::time::Instant::now();
-                                    say(sweep_line(done_count.load(Ordering::Relaxed)));
-                                }
-                            }
-                        };
-                        let outcome =
-                            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                                execute::run_job(job, &claim, None, &mut on_progress)
-                            }));
-                        bar.finish_and_clear();
-                        multi.remove(&bar);
-                        eta.end(i);
-                        let outcome = match outcome {
-                            Ok(Ok(JobEnd::Finished(result))) => Outcome::Finished(result),
-                            Ok(Ok(JobEnd::Stopped)) => Outcome::Failed("stopped early".into()),
-                            Ok(Ok(JobEnd::ClaimLost(why))) => Outcome::ClaimLost(why),
-                            Ok(Err(e)) if super::fs_error::is_resource_error(&e) => {
-                                // stop the other workers from starting jobs right away
-                                let err = format!("{e:#}");
-                                halted
-                                    .lock()
-                                    .expect("halted")
-                                    .get_or_insert_with(|| err.clone());
-                                Outcome::Halted(err)
-                            }
-                            Ok(Err(e)) => Outcome::Failed(format!("{e:#}")),
-                            Err(panic) => Outcome::Failed(format!(
-                                "panic: {}",
-                                panic
-                                    .downcast_ref::<String>()
-                                    .cloned()
-                                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                                    .unwrap_or_default()
-                            )),
-                        };
-                        let _ = tx.send(Message {
-                            job,
-                            claim,
-                            outcome,
-                        });
-                    }
-                });
-            }
-        });
-        drop(tx);
-        writer.join().expect("writer thread");
-    });
-    overall.finish_and_clear();
-    let (finished, failed) = *counts.lock().expect("counts");
-    summary.finished = finished;
-    summary.failed = failed;
-    summary.busy = busy.load(Ordering::Relaxed);
-    summary.halted = halted.into_inner().expect("halted");
-    if opts.write_tables && summary.halted.is_none() {
-        let written = tables::gather(sweep, dirs)?;
-        say(format!(
-            "tables: {} in {}",
-            written.counts(),
-            dirs.tables.display()
-        ));
     }
-    say(format!(
-        "run finished: {} done now ({} before), {} failed, {} skipped as failed, {} held by another runner",
-        summary.finished,
-        summary.already_done,
-        summary.failed,
-        summary.skipped_failed,
-        summary.busy
-    ));
-    Ok(summary)
+
+    /// The single writer: stores each outcome, then releases the claim.
+    fn write(&self, rx: Receiver<Message>) {
+        for msg in rx {
+            let line = self.store(&msg);
+            super::running::ended(&msg.claim.dir);
+            drop(msg.claim);
+            self.show.ended(line);
+        }
+    }
+
+    /// Store one outcome (a result, a failure, nothing when the claim was lost or a resource
+    /// error stopped the job); the line that says so.
+    fn store(&self, msg: &Message) -> String {
+        let job = msg.job;
+        let dir = &msg.claim.dir;
+        let counts = &self.show.counts;
+        // a claim lost while the job ran (or while its result waited here) writes nothing:
+        // another runner may hold the job now
+        let lost = match &msg.outcome {
+            Outcome::ClaimLost(why) => Some(why.clone()),
+            _ => msg.claim.still_held().err(),
+        };
+        if let Some(why) = lost {
+            let _ = store::log(dir, &format!("claim lost: {why}; stopped without a result"));
+            self.busy.fetch_add(1, Ordering::Relaxed);
+            return format!(
+                "lost    {} [{}]: {why}; stopped without a result",
+                job.id, job.index
+            );
+        }
+        let failed = |err: &str| {
+            let _ = store::mark_failed(dir, err);
+            counts.lock().expect("counts").1 += 1;
+            format!(
+                "FAILED  {} [{}] {}: {err}",
+                job.id,
+                job.index,
+                self.point_of(job)
+            )
+        };
+        match &msg.outcome {
+            Outcome::ClaimLost(_) => unreachable!("handled above"),
+            Outcome::Halted(err) => self.halt(job, dir, err),
+            Outcome::Failed(err) => failed(err),
+            Outcome::Finished(result) => match store::write_result(dir, result) {
+                Ok(checksum) => {
+                    let _ = store::log(dir, &store::done_line(&checksum));
+                    counts.lock().expect("counts").0 += 1;
+                    self.show.done.fetch_add(1, Ordering::Relaxed);
+                    super::running::add_done();
+                    format!(
+                        "done    {} [{}] {}: {}, {:.1} s, {:.3e} events/s",
+                        job.id,
+                        job.index,
+                        self.point_of(job),
+                        crate::analysis::labels::label_key(
+                            result.analysis.label().0,
+                            result.analysis.label().1
+                        ),
+                        result.wall_seconds,
+                        result.events_per_second
+                    )
+                }
+                Err(e) => match JobError::from(e) {
+                    e if e.is_resource() => {
+                        self.halt(job, dir, &format!("writing the result: {e}"))
+                    }
+                    e => failed(&format!("writing the result: {e}")),
+                },
+            },
+        }
+    }
+}
+
+/// How a job's run ended, for the writer.
+fn outcome_of(result: std::thread::Result<Result<JobEnd, JobError>>) -> Outcome {
+    match result {
+        Ok(Ok(JobEnd::Finished(result))) => Outcome::Finished(result),
+        Ok(Ok(JobEnd::Stopped)) => Outcome::Failed("stopped early".into()),
+        Ok(Ok(JobEnd::ClaimLost(why))) => Outcome::ClaimLost(why),
+        Ok(Err(e)) if e.is_resource() => Outcome::Halted(e.to_string()),
+        Ok(Err(e)) => Outcome::Failed(e.to_string()),
+        Err(panic) => Outcome::Failed(format!(
+            "panic: {}",
+            panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default()
+        )),
+    }
+}
+
+/// A running job's progress: its bar, the sweep's bar and ETA, and (without a terminal) a
+/// plain line per progress interval.
+struct JobBar<'r, 'a> {
+    run: &'r Run<'a>,
+    /// the job's index among those to run (the ETA's)
+    i: usize,
+    job: &'r PlannedJob,
+    bar: &'r ProgressBar,
+    /// work per unit of the run's clock (the estimate is linear in it)
+    work_per_clock: f64,
+    /// the clock when last reported, and when the job started in this run
+    last: f64,
+    start_clock: f64,
+    started: std::time::Instant,
+    printed: std::time::Instant,
+}
+
+impl<'r, 'a> JobBar<'r, 'a> {
+    fn new(
+        run: &'r Run<'a>,
+        i: usize,
+        job: &'r PlannedJob,
+        bar: &'r ProgressBar,
+        dir: &std::path::Path,
+    ) -> Self {
+        let params = &job.params;
+        let work_per_clock = params.estimated_work() / params.run.length();
+        let last = store::checkpoint_progress(dir).map_or(0.0, |p| p.on(params.run.clock()));
+        run.show.overall.inc((last * work_per_clock) as u64);
+        run.show
+            .eta
+            .start(i, (params.run.length() - last) * work_per_clock);
+        JobBar {
+            run,
+            i,
+            job,
+            bar,
+            work_per_clock,
+            last,
+            start_clock: last,
+            started: std::time::Instant::now(),
+            printed: std::time::Instant::now(),
+        }
+    }
+
+    fn update(&mut self, p: execute::JobProgress) {
+        let show = self.run.show;
+        let unit = self.job.params.run.clock().unit();
+        self.bar.set_position((1000.0 * p.clock / p.target) as u64);
+        self.bar.set_message(format!(
+            "{:.0}/{:.0} {unit}, {:.2e} events/s",
+            p.clock, p.target, p.events_per_second
+        ));
+        let delta = (p.clock - self.last).max(0.0);
+        show.overall.inc((delta * self.work_per_clock) as u64);
+        show.eta.progress(
+            self.i,
+            delta * self.work_per_clock,
+            (p.target - p.clock) * self.work_per_clock,
+        );
+        if show.interactive {
+            show.overall
+                .set_message(show.eta.text().trim_start_matches(", ").to_string());
+        }
+        self.last = p.clock;
+        // without a terminal (a Slurm log, a file): a plain line per job at a fixed wall-clock
+        // interval (output only; the run never depends on it)
+        if !show.interactive && self.printed.elapsed() >= show.every {
+            self.printed = std::time::Instant::now();
+            let rate =
+                (p.clock - self.start_clock) / self.started.elapsed().as_secs_f64().max(1e-9);
+            let eta = if rate > 0.0 {
+                format!("{:.0} s", (p.target - p.clock) / rate)
+            } else {
+                "?".into()
+            };
+            show.say(format!(
+                "running {} [{}] {}: {:.0}/{:.0} {unit}, {:.2e} events/s, ETA {eta}",
+                self.job.id,
+                self.job.index,
+                self.run.point_of(self.job),
+                p.clock,
+                p.target,
+                p.events_per_second
+            ));
+            show.sweep_line_now_and_then();
+        }
+    }
 }
 
 /// "1 job", "2 jobs": a count with its noun in the right number.
