@@ -111,7 +111,7 @@ fn plan_of_ids(
         .enumerate()
         .map(|(k, id)| {
             let id = crate::sweep::JobId(id.to_string());
-            let params = crate::sweep::store::read_params(&dirs.job_dir(&id))?;
+            let params = dirs.job(&id).params()?;
             anyhow::ensure!(
                 params.id() == id,
                 "{}: params.json does not give the id {id}",

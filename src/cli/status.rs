@@ -3,7 +3,7 @@
 
 use super::out::{out, outln};
 use super::source::SweepSource;
-use crate::sweep::{store, store::JobState, tables};
+use crate::sweep::{store::JobState, tables};
 use clap::Args;
 
 #[derive(Debug, Args)]
@@ -43,11 +43,11 @@ fn status_json(
         .iter()
         .map(|j| {
             let run = &j.job.params.run;
-            let dir = dirs.job_dir(&j.job.id);
+            let dir = dirs.job(&j.job.id);
             let progress = match &j.state {
                 JobState::Done => j.result.as_ref().map(|r| r.clock(run.clock())),
                 JobState::Partial(p) => Some(p.on(run.clock())),
-                JobState::Running => store::checkpoint_progress(&dir).map(|p| p.on(run.clock())),
+                JobState::Running => dir.checkpoint_progress().map(|p| p.on(run.clock())),
                 _ => None,
             };
             let (error, label, probability) = match &j.state {
@@ -78,7 +78,7 @@ fn status_json(
                 "label_probability": probability,
                 "error": error,
                 "holder": matches!(j.state, JobState::Running)
-                    .then(|| store::holder(&dir))
+                    .then(|| dir.holder())
                     .flatten(),
                 "outdated": j.result.as_ref().and_then(|r| {
                     let def = j.job.params.def();
@@ -172,9 +172,9 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                 format!("partial  {c:.0}/{target:.0} {unit} (resumes from its checkpoint)")
             }
             JobState::Running => {
-                let dir = dirs.job_dir(&j.job.id);
-                let by = store::holder(&dir).map_or(String::new(), |h| format!("  [{h}]"));
-                match store::checkpoint_progress(&dir).map(|p| p.on(run.clock())) {
+                let dir = dirs.job(&j.job.id);
+                let by = dir.holder().map_or(String::new(), |h| format!("  [{h}]"));
+                match dir.checkpoint_progress().map(|p| p.on(run.clock())) {
                     Some(c) => {
                         format!("running  {c:.0}/{target:.0} {unit} at the last checkpoint{by}")
                     }

@@ -64,13 +64,13 @@ impl SweepLink for RunnerLink {
         results: Option<&Path>,
         sets: &[String],
     ) -> Result<PreparedSweep> {
-        use crate::sweep::{RESOLVED_SWEEP_FILE, load_sweep, store};
+        use crate::sweep::{RESOLVED_SWEEP_FILE, load_sweep};
         let sweep = load_sweep(sweep_file, sets)?;
         let root = results.unwrap_or(Path::new(DEFAULT_RESULTS_ROOT));
         let dirs = sweep.results_dir(root);
         sweep.write_resolved(&dirs)?;
         for job in &sweep.plan {
-            store::init_job_dir(&dirs.job_dir(&job.id), job)?;
+            dirs.job(&job.id).init(job)?;
         }
         let mut plan: Vec<_> = sweep.plan.iter().collect();
         plan.sort_by_key(|j| j.index);
@@ -88,16 +88,14 @@ impl SweepLink for RunnerLink {
         let (_, dirs) = open_results(sweep_dir)?;
         Ok(job_ids
             .iter()
-            .map(
-                |id| match store::job_state(&dirs.job_dir(&JobId(id.clone()))) {
-                    store::JobState::Done => JobDirState::Done,
-                    store::JobState::Failed(e) => JobDirState::Failed(e),
-                    store::JobState::Damaged { reason, .. } => {
-                        JobDirState::Failed(format!("damaged: {reason}"))
-                    }
-                    _ => JobDirState::Unfinished,
-                },
-            )
+            .map(|id| match dirs.job(&JobId(id.clone())).state(false) {
+                store::JobState::Done => JobDirState::Done,
+                store::JobState::Failed(e) => JobDirState::Failed(e),
+                store::JobState::Damaged { reason, .. } => {
+                    JobDirState::Failed(format!("damaged: {reason}"))
+                }
+                _ => JobDirState::Unfinished,
+            })
             .collect())
     }
 }

@@ -100,6 +100,43 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
     };
     ensure!(max_array_size >= 1, "MaxArraySize must be at least 1");
 
+    let (chunks, scripts) = write_scripts(&sweep, opts, &granflow, max_array_size)?;
+    let mut outcome = SubmitOutcome {
+        sweep,
+        scripts,
+        array_job_ids: Vec::new(),
+        max_array_size,
+        max_array_size_source: source,
+    };
+    if opts.dry_run {
+        return Ok(outcome);
+    }
+
+    let arrays = submit_arrays(&outcome, &chunks, opts);
+    let (arrays, failure) = arrays?;
+    outcome.array_job_ids = arrays.into_iter().map(|a| a.array_job_id).collect();
+    if let Some(e) = failure {
+        let done = if outcome.array_job_ids.is_empty() {
+            "nothing was submitted".to_string()
+        } else {
+            format!(
+                "arrays {} were submitted and recorded",
+                outcome.array_job_ids.join(", ")
+            )
+        };
+        return Err(e.context(format!("submitting to Slurm ({done})")));
+    }
+    Ok(outcome)
+}
+
+/// Write this submission's job ids and one sbatch script per array: the arrays' chunks of
+/// tasks and the scripts' paths.
+fn write_scripts(
+    sweep: &PreparedSweep,
+    opts: &SubmitOptions,
+    granflow: &Path,
+    max_array_size: usize,
+) -> Result<(Vec<super::split::ArrayChunk>, Vec<PathBuf>)> {
     let tasks = task_count(sweep.job_ids.len(), opts.jobs_per_task);
     let chunks = split_into_arrays(tasks, max_array_size);
     let slurm_dir = record::slurm_dir(&sweep.sweep_dir);
@@ -128,7 +165,7 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
             results_arg: sweep.results_arg.clone(),
             sweep_file: sweep.sweep_file.clone(),
             ids_file: ids_file.clone(),
-            granflow: granflow.clone(),
+            granflow: granflow.to_path_buf(),
             sets: opts.sets.clone(),
             total_jobs: sweep.job_ids.len(),
             jobs_per_task: opts.jobs_per_task,
@@ -143,17 +180,17 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
         record::write_atomically(&path, script.render().as_bytes())?;
         scripts.push(path);
     }
-    let mut outcome = SubmitOutcome {
-        sweep,
-        scripts,
-        array_job_ids: Vec::new(),
-        max_array_size,
-        max_array_size_source: source,
-    };
-    if opts.dry_run {
-        return Ok(outcome);
-    }
+    Ok((chunks, scripts))
+}
 
+/// Submit the scripts in order (each after the one before with `--max-parallel`) and record
+/// the arrays that were submitted even when a later sbatch failed, so that `status` can follow
+/// them: the arrays, and the sbatch error that stopped the rest.
+fn submit_arrays(
+    outcome: &SubmitOutcome,
+    chunks: &[super::split::ArrayChunk],
+    opts: &SubmitOptions,
+) -> Result<(Vec<SubmittedArray>, Option<anyhow::Error>)> {
     let mut arrays = Vec::new();
     let mut failure = None;
     for (k, (chunk, path)) in chunks.iter().zip(&outcome.scripts).enumerate() {
@@ -195,19 +232,7 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
             },
         )?;
     }
-    outcome.array_job_ids = arrays.into_iter().map(|a| a.array_job_id).collect();
-    if let Some(e) = failure {
-        let done = if outcome.array_job_ids.is_empty() {
-            "nothing was submitted".to_string()
-        } else {
-            format!(
-                "arrays {} were submitted and recorded",
-                outcome.array_job_ids.join(", ")
-            )
-        };
-        return Err(e.context(format!("submitting to Slurm ({done})")));
-    }
-    Ok(outcome)
+    Ok((arrays, failure))
 }
 
 /// Run `sbatch --parsable ...` and return the job id (`<id>` or `<id>;<cluster>`).

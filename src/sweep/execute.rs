@@ -11,11 +11,10 @@
 
 use super::grid::PlannedJob;
 pub use super::job_error::JobError;
-use super::store::{self, Claim, JobCheckpoint, JobResult, RecordLog};
+use super::store::{self, Claim, JobCheckpoint, JobDir, JobResult, RecordLog};
 use crate::analysis::{Analyser, Record, StopCheck};
 use crate::engine::{Engine, StopAt};
 use crate::provenance::Provenance;
-use std::path::Path;
 use std::time::Instant;
 
 /// How a call to [`run_job`] ended.
@@ -101,7 +100,7 @@ pub fn run_job(
 /// snapshot recorded and checkpoint 0 written.
 fn start_or_resume(
     job: &PlannedJob,
-    dir: &Path,
+    dir: &JobDir,
     analyser: &Analyser,
     started: Instant,
 ) -> Result<Running, JobError> {
@@ -110,9 +109,9 @@ fn start_or_resume(
         crate::provenance::Provenance::build(),
         crate::provenance::host()
     );
-    if let Some(cp) = store::read_checkpoint(dir)? {
-        let (log, records) = RecordLog::resume(dir, &job.id.0, &cp)?;
-        store::log(dir, &format!("resume at snapshot {} {build}", cp.snapshot))?;
+    if let Some(cp) = dir.checkpoint()? {
+        let (log, records) = RecordLog::resume(dir.path(), &job.id.0, &cp)?;
+        dir.log(&format!("resume at snapshot {} {build}", cp.snapshot))?;
         let mut engine: Box<dyn Engine> = crate::registry::restore(&cp.engine)?;
         // free paths are not part of the engine's state: switched on again (the checkpoint
         // was taken right after a snapshot had emptied the tally)
@@ -134,23 +133,20 @@ fn start_or_resume(
     let snap = engine.snapshot();
     let paths = engine.take_free_paths();
     let records = vec![analyser.record_with(&snap, 0, paths)?];
-    let mut log = RecordLog::start(dir, &job.id.0)?;
+    let mut log = RecordLog::start(dir.path(), &job.id.0)?;
     log.append(&records[0])?;
     log.sync()?;
     // checkpoint 0 first, then the log line: a job is "started" once its initial state is on
     // disk; a kill before that leaves nothing to resume and no trace
-    store::write_checkpoint(
-        dir,
-        &JobCheckpoint::new(
-            &job.id.0,
-            0,
-            engine.checkpoint(),
-            &log,
-            started.elapsed().as_secs_f64(),
-            snap.progress,
-        ),
-    )?;
-    store::log(dir, &format!("start {build}"))?;
+    dir.write_checkpoint(&JobCheckpoint::new(
+        &job.id.0,
+        0,
+        engine.checkpoint(),
+        &log,
+        started.elapsed().as_secs_f64(),
+        snap.progress,
+    ))?;
+    dir.log(&format!("start {build}"))?;
     Ok(Running {
         engine,
         records,
@@ -205,17 +201,14 @@ fn advance(
                 return Ok(Advanced::ClaimLost(why));
             }
             at.log.sync()?;
-            store::write_checkpoint(
-                &claim.dir,
-                &JobCheckpoint::new(
-                    &job.id.0,
-                    k,
-                    at.engine.checkpoint(),
-                    &at.log,
-                    at.wall_before + started.elapsed().as_secs_f64(),
-                    snap.progress,
-                ),
-            )?;
+            claim.dir.write_checkpoint(&JobCheckpoint::new(
+                &job.id.0,
+                k,
+                at.engine.checkpoint(),
+                &at.log,
+                at.wall_before + started.elapsed().as_secs_f64(),
+                snap.progress,
+            ))?;
         }
         let secs = started.elapsed().as_secs_f64().max(1e-9);
         on_progress(JobProgress {
@@ -239,7 +232,7 @@ fn advance(
 /// Analyse the records, draw the job's figures and assemble its result.
 fn finish(
     job: &PlannedJob,
-    dir: &Path,
+    dir: &JobDir,
     analyser: &Analyser,
     mut at: Running,
     stop_reason: String,
@@ -255,17 +248,17 @@ fn finish(
     // the figures are a view of the result: one that cannot be drawn is logged, not a failed
     // job (a full disk still stops the run, as any other write does)
     let figures = crate::job_figures::figures(&job.heading(), &analysis, &at.records);
-    if let Err(e) = crate::job_figures::write(dir, &figures) {
+    if let Err(e) = crate::job_figures::write(dir.path(), &figures) {
         let e = JobError::from(e);
         if e.is_resource() {
             return Err(e);
         }
-        store::log(dir, &format!("figures not written: {e}"))?;
+        dir.log(&format!("figures not written: {e}"))?;
     }
     let wall_seconds = at.wall_before + started.elapsed().as_secs_f64();
     let def = job.params.def();
     let mut provenance = Provenance::here(def.version, crate::registry::analysis_of(def).version());
-    provenance.started = store::first_start(dir).unwrap_or_default();
+    provenance.started = dir.first_start().unwrap_or_default();
     provenance.finished = crate::provenance::now();
     Ok(JobResult {
         format: store::RESULT_FORMAT,

@@ -71,6 +71,11 @@ impl SweepDirs {
     pub fn job_dir(&self, id: &JobId) -> PathBuf {
         self.jobs.join(&id.0)
     }
+
+    /// The job directory of a job id, with the methods that own its files.
+    pub fn job(&self, id: &JobId) -> store::JobDir {
+        store::JobDir::new(self.job_dir(id))
+    }
 }
 
 /// Load a sweep file, apply `--set` overrides, validate and expand it. Errors name the file,

@@ -5,7 +5,7 @@
 use super::eta::SweepEta;
 use super::execute::{self, JobEnd, JobError};
 use super::grid::PlannedJob;
-use super::store::{self, Claim, JobResult, JobState, NotClaimed};
+use super::store::{self, Claim, JobDir, JobResult, JobState, NotClaimed};
 use super::{Sweep, SweepDirs, tables};
 use crossbeam_channel::{Receiver, Sender, unbounded};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -161,28 +161,26 @@ fn select<'a>(
     };
     let mut todo = Vec::new();
     for job in jobs {
-        let dir = dirs.job_dir(&job.id);
-        store::init_job_dir(&dir, job)?;
+        let dir = dirs.job(&job.id);
+        dir.init(job)?;
         // with --retry-failed, done results are read and checked too (damaged ones are then
         // set aside and recomputed; a damaged parameters file is set aside and written anew)
-        let mut state = store::job_state_checked(&dir, opts.retry_failed);
+        let mut state = dir.state(opts.retry_failed);
         if let JobState::Damaged {
             file: store::PARAMS_FILE,
             reason,
         } = &state
             && opts.retry_failed
-            && store::repair_params(&dir, job, reason)?
+            && dir.repair_params(job, reason)?
         {
-            state = store::job_state_checked(&dir, true);
+            state = dir.state(true);
         }
         match state {
             JobState::Done if opts.rerun_outdated => {
                 let def = job.params.def();
-                match store::retire_if_outdated(
-                    &dir,
-                    def.version,
-                    crate::registry::analysis_of(def).version(),
-                )? {
+                match dir
+                    .retire_if_outdated(def.version, crate::registry::analysis_of(def).version())?
+                {
                     Some(_) => {
                         summary.outdated += 1;
                         todo.push(*job)
@@ -191,7 +189,7 @@ fn select<'a>(
                 }
             }
             JobState::Done => {
-                store::complete_done_log(&dir)?;
+                dir.complete_done_log()?;
                 summary.already_done += 1
             }
             JobState::Failed(_) | JobState::Damaged { .. } if !opts.retry_failed => {
@@ -439,10 +437,9 @@ impl<'a> Run<'a> {
 
     /// The job's claim, or why not (said; None).
     fn claim(&self, job: &PlannedJob) -> Option<Claim> {
-        let dir = self.dirs.job_dir(&job.id);
-        match store::try_claim(&dir, self.opts.retry_failed) {
-            Ok(Ok(c)) => Some(c),
-            Ok(Err(NotClaimed::Busy)) => {
+        match self.dirs.job(&job.id).claim(self.opts.retry_failed) {
+            Ok(c) => Some(c),
+            Err(NotClaimed::Busy) => {
                 self.busy.fetch_add(1, Ordering::Relaxed);
                 self.show.say(format!(
                     "busy    {} [{}]: held by another runner",
@@ -450,28 +447,28 @@ impl<'a> Run<'a> {
                 ));
                 None
             }
-            Ok(Err(NotClaimed::Damaged(reason))) => {
+            Err(NotClaimed::Damaged(reason)) => {
                 self.show.say(format!(
                     "damaged {} [{}]: {reason} (rerun with --retry-failed)",
                     job.id, job.index
                 ));
                 None
             }
-            Ok(Err(_)) => None,
-            Err(e) => {
+            Err(NotClaimed::Unreadable(e)) => {
                 self.show.say(format!(
                     "error   {} [{}]: cannot claim: {e}",
                     job.id, job.index
                 ));
                 None
             }
+            Err(NotClaimed::Done | NotClaimed::Failed(_)) => None,
         }
     }
 
     /// Run a claimed job (the `i`-th to run) with its progress bar; a panic is a failure.
     fn run_claimed(&self, i: usize, job: &PlannedJob, claim: &Claim) -> Outcome {
         let show = self.show;
-        super::running::started(&claim.dir);
+        super::running::started(claim.dir.path());
         let bar = show
             .multi
             .insert_before(&show.overall, ProgressBar::new(1000));
@@ -504,8 +501,8 @@ impl<'a> Run<'a> {
     }
 
     /// A resource error: the job stays resumable (not failed), and the run stops starting jobs.
-    fn halt(&self, job: &PlannedJob, dir: &std::path::Path, err: &str) -> String {
-        let _ = store::log(dir, &format!("stopped by a resource error: {err}"));
+    fn halt(&self, job: &PlannedJob, dir: &JobDir, err: &str) -> String {
+        let _ = dir.log(&format!("stopped by a resource error: {err}"));
         self.halted
             .lock()
             .expect("halted")
@@ -520,7 +517,7 @@ impl<'a> Run<'a> {
     fn write(&self, rx: Receiver<Message>) {
         for msg in rx {
             let line = self.store(&msg);
-            super::running::ended(&msg.claim.dir);
+            super::running::ended(msg.claim.dir.path());
             drop(msg.claim);
             self.show.ended(line);
         }
@@ -539,7 +536,7 @@ impl<'a> Run<'a> {
             _ => msg.claim.still_held().err(),
         };
         if let Some(why) = lost {
-            let _ = store::log(dir, &format!("claim lost: {why}; stopped without a result"));
+            let _ = dir.log(&format!("claim lost: {why}; stopped without a result"));
             self.busy.fetch_add(1, Ordering::Relaxed);
             return format!(
                 "lost    {} [{}]: {why}; stopped without a result",
@@ -547,7 +544,7 @@ impl<'a> Run<'a> {
             );
         }
         let failed = |err: &str| {
-            let _ = store::mark_failed(dir, err);
+            let _ = dir.mark_failed(err);
             counts.lock().expect("counts").1 += 1;
             format!(
                 "FAILED  {} [{}] {}: {err}",
@@ -560,9 +557,9 @@ impl<'a> Run<'a> {
             Outcome::ClaimLost(_) => unreachable!("handled above"),
             Outcome::Halted(err) => self.halt(job, dir, err),
             Outcome::Failed(err) => failed(err),
-            Outcome::Finished(result) => match store::write_result(dir, result) {
+            Outcome::Finished(result) => match dir.write_result(result) {
                 Ok(checksum) => {
-                    let _ = store::log(dir, &store::done_line(&checksum));
+                    let _ = dir.log(&store::done_line(&checksum));
                     counts.lock().expect("counts").0 += 1;
                     self.show.done.fetch_add(1, Ordering::Relaxed);
                     super::running::add_done();
@@ -632,11 +629,13 @@ impl<'r, 'a> JobBar<'r, 'a> {
         i: usize,
         job: &'r PlannedJob,
         bar: &'r ProgressBar,
-        dir: &std::path::Path,
+        dir: &JobDir,
     ) -> Self {
         let params = &job.params;
         let work_per_clock = params.estimated_work() / params.run.length();
-        let last = store::checkpoint_progress(dir).map_or(0.0, |p| p.on(params.run.clock()));
+        let last = dir
+            .checkpoint_progress()
+            .map_or(0.0, |p| p.on(params.run.clock()));
         run.show.overall.inc((last * work_per_clock) as u64);
         run.show
             .eta

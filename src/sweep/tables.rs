@@ -69,22 +69,22 @@ pub fn collect_checked<'a>(sweep: &'a Sweep, dirs: &SweepDirs, full: bool) -> Ve
         .plan
         .iter()
         .map(|job| {
-            let dir = dirs.job_dir(&job.id);
-            let mut state = store::job_state(&dir);
+            let dir = dirs.job(&job.id);
+            let mut state = dir.state(false);
             // a partial job's checkpoint and the records it covers are read and checked (a
             // resume needs them); a done job's result and parameters file
             if matches!(state, JobState::Partial(_)) {
-                state = store::job_state_checked(&dir, true);
+                state = dir.state(true);
             }
             let result = if state == JobState::Done {
-                let checked = store::read_result(&dir)
+                let checked = dir.result()
                     .map_err(|e| (store::RESULT_FILE, format!("{e:#}")))
                     .and_then(|r| {
-                        store::read_params(&dir)
+                        dir.params()
                             .map(|_| r)
                             .map_err(|e| (store::PARAMS_FILE, format!("{e:#}")))
                     })
-                    .and_then(|r| store::check_done_files(&dir, full).map(|()| r));
+                    .and_then(|r| dir.check_done_files(full).map(|()| r));
                 match checked {
                     Ok(r) => Some(r),
                     Err((file, reason)) => {

@@ -12,7 +12,7 @@ use super::{
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::os::unix::fs::MetadataExt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Claims without OS locks (`run --unsafe-no-locks`, for file systems without flock): then
@@ -27,7 +27,8 @@ pub fn allow_claims_without_locks() {
 /// An exclusive claim on a job; released when dropped (or when the process dies).
 #[derive(Debug)]
 pub struct Claim {
-    pub dir: PathBuf,
+    /// the claimed job's directory
+    pub dir: super::JobDir,
     /// the locked file: held, never read (dropping it releases the lock)
     _lock: File,
     /// (device, inode) of the locked file
@@ -45,6 +46,8 @@ pub enum NotClaimed {
     Failed(String),
     /// a file is damaged or misplaced (and retrying was not asked for)
     Damaged(String),
+    /// the directory or its lock file could not be opened or written: the path and the error
+    Unreadable(String),
 }
 
 fn identity(meta: &std::fs::Metadata) -> (u64, u64) {
@@ -55,7 +58,7 @@ impl Claim {
     /// Whether the lock file at the job's path is still the one this claim locked; the reason
     /// when not (deleted, or replaced by another file that another runner may hold).
     pub fn still_held(&self) -> Result<(), String> {
-        let path = self.dir.join(LOCK_FILE);
+        let path = self.dir.path().join(LOCK_FILE);
         match std::fs::metadata(&path) {
             Ok(meta) if identity(&meta) == self.identity => Ok(()),
             Ok(_) => Err(format!(
@@ -180,7 +183,7 @@ pub fn try_claim(dir: &Path, retry_failed: bool) -> std::io::Result<Result<Claim
         crate::provenance::now()
     )?;
     Ok(Ok(Claim {
-        dir: dir.to_path_buf(),
+        dir: super::JobDir::new(dir),
         _lock: lock,
         identity,
     }))

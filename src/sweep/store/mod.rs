@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 mod checkpoint;
 mod claim;
+mod job_dir;
 mod records;
 mod result;
 
@@ -31,6 +32,7 @@ pub use checkpoint::{
     read_checkpoint, write_checkpoint,
 };
 pub use claim::{Claim, NotClaimed, allow_claims_without_locks, check_locking, holder, try_claim};
+pub use job_dir::JobDir;
 pub use records::{RecordLog, check_log_cheaply, load_records, records_so_far};
 pub use result::{JobResult, RESULT_FORMAT, done_line, read_result, write_result};
 use std::fs::OpenOptions;
