@@ -29,10 +29,12 @@ pub struct PlanArgs {
 }
 
 pub fn run(args: PlanArgs) -> anyhow::Result<()> {
-    let mut sweep = load_sweep(&args.sweep, &args.set)?;
-    let engine = sweep.engine();
+    let base = load_sweep(&args.sweep, &args.set)?;
+    let engine = base.engine();
+    let dirs = base.results_dir(&args.results);
+    // with the points its refinement added so far
+    let mut sweep = crate::sweep::rounds::replay(&base, &dirs)?.sweep;
     crate::sweep::select::retain(&mut sweep.plan, &args.conditions, engine)?;
-    let dirs = sweep.results_dir(&args.results);
     let jobs = tables::collect(&sweep, &dirs);
     let mut swept = phase::swept_in(&sweep);
     if swept.is_empty()
@@ -47,6 +49,9 @@ pub fn run(args: PlanArgs) -> anyhow::Result<()> {
         dirs.tables.display(),
         dirs.jobs.display()
     );
+    if let Some(line) = crate::sweep::rounds::bound(&base) {
+        outln!("{line}");
+    }
     let mut header = format!(
         "{:>5}  {:<16}  {:<8}  {:>8}  {:>10}",
         "index", "id", "state", engine.size_name, "work"

@@ -122,6 +122,7 @@ fn plan_of_ids(
                 id,
                 params,
                 swept: Vec::new(),
+                level: 0,
             })
         })
         .collect()
@@ -189,6 +190,16 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
+    // with the points its refinement added (none without a `refine` section)
+    let (sweep, whole) = if job_range.is_none() && !by_ids {
+        let refined = |s: &crate::sweep::Sweep| crate::sweep::rounds::replay(s, &dirs);
+        (
+            refined(&sweep)?.sweep,
+            whole.map(|w| refined(&w)).transpose()?.map(|r| r.sweep),
+        )
+    } else {
+        (sweep, whole)
+    };
     let selected: std::collections::HashSet<String> =
         sweep.plan.iter().map(|j| j.id.0.clone()).collect();
     let sweep = match whole {

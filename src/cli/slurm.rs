@@ -120,6 +120,14 @@ fn submit(a: SubmitArgs) -> anyhow::Result<()> {
     };
     let out = slurm::submit(&RunnerLink, &opts)
         .with_context(|| format!("granflow slurm submit {}", a.sweep.display()))?;
+    if out.sweep.refining && out.sweep.job_ids.is_empty() {
+        outln!(
+            "sweep '{}': its refinement is complete, nothing to submit (tables: granflow gather {})",
+            out.sweep.name,
+            out.sweep.sweep_dir.display()
+        );
+        return Ok(());
+    }
     let jobs = out.sweep.job_ids.len();
     outln!(
         "sweep '{}': {jobs} jobs, {} jobs per task, {} array(s) (MaxArraySize {} from {})",
@@ -138,6 +146,12 @@ fn submit(a: SubmitArgs) -> anyhow::Result<()> {
     }
     for id in &out.array_job_ids {
         outln!("submitted array job {id}");
+    }
+    if let Some(id) = &out.next_round_job {
+        outln!(
+            "submitted job {id}: after the arrays it computes the refinement's next round and \
+             submits it (`granflow slurm status` follows every round)"
+        );
     }
     outln!(
         "logs: {}\nfollow with: granflow status {}   (or: granflow slurm status {})",

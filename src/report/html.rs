@@ -176,6 +176,30 @@ pub fn page(
         escape(crate::provenance::COMMIT),
         escape(&dirs.tables.display().to_string()),
     );
+    // the refinement's rounds: the points each level added
+    if let Some(r) = &sweep.spec.refine {
+        let mut per_level: std::collections::BTreeMap<u32, usize> = Default::default();
+        for v in views {
+            *per_level.entry(v.gathered.job.level).or_default() += 1;
+        }
+        let levels: Vec<String> = per_level
+            .iter()
+            .map(|(l, n)| match l {
+                0 => format!("{n} jobs of the base plan"),
+                l => format!("{n} at level {l}"),
+            })
+            .collect();
+        let _ = writeln!(
+            h,
+            "<p id=\"refinement\">Refined along {} ({} levels, budget {} jobs): {} \
+             (<code>refinement_level</code> in jobs.parquet; the diagram draws each point in \
+             its share and the estimated boundaries with +- half the last interval).</p>",
+            escape(&r.axes.join(" x ")),
+            r.levels,
+            r.budget,
+            levels.join(", ")
+        );
+    }
     // the phase diagram
     h.push_str("<section id=\"diagram\">\n<h2>Phase diagram</h2>\n");
     match diagram {

@@ -21,8 +21,14 @@ pub struct PreparedSweep {
     pub results_arg: PathBuf,
     /// The resolved sweep file written into `sweep_dir` (what each task runs).
     pub sweep_file: PathBuf,
-    /// Job ids in the deterministic plan order of `granflow plan` / `--job-range`.
+    /// Job ids in the deterministic plan order of `granflow plan` / `--job-range` (of a
+    /// refined sweep: those not done yet).
     pub job_ids: Vec<String>,
+    /// the sweep has a `refine` section
+    pub refining: bool,
+    /// a refined sweep whose refinement is not complete: a one-task job after the arrays
+    /// submits the next round ([`super::script::NextRoundScript`])
+    pub next_round: bool,
 }
 
 /// What a job's directory says.
@@ -65,21 +71,31 @@ impl SweepLink for RunnerLink {
         sets: &[String],
     ) -> Result<PreparedSweep> {
         use crate::sweep::{RESOLVED_SWEEP_FILE, load_sweep};
-        let sweep = load_sweep(sweep_file, sets)?;
+        let base = load_sweep(sweep_file, sets)?;
         let root = results.unwrap_or(Path::new(DEFAULT_RESULTS_ROOT));
-        let dirs = sweep.results_dir(root);
-        sweep.write_resolved(&dirs)?;
+        let dirs = base.results_dir(root);
+        base.write_resolved(&dirs)?;
+        // with the points its refinement added so far (none without a `refine` section)
+        let refined = crate::sweep::rounds::replay(&base, &dirs)?;
+        let sweep = &refined.sweep;
         for job in &sweep.plan {
             dirs.job(&job.id).init(job)?;
         }
         let mut plan: Vec<_> = sweep.plan.iter().collect();
         plan.sort_by_key(|j| j.index);
+        let refining = base.spec.refine.is_some();
+        if refining {
+            // a round's submission runs the jobs not done yet (the earlier rounds' are)
+            plan.retain(|j| !dirs.job(&j.id).is_done());
+        }
         Ok(PreparedSweep {
             name: sweep.name.clone(),
             sweep_file: dirs.tables.join(RESOLVED_SWEEP_FILE),
             sweep_dir: dirs.tables,
             results_arg: root.to_path_buf(),
             job_ids: plan.iter().map(|j| j.id.0.clone()).collect(),
+            refining,
+            next_round: refining && !refined.complete,
         })
     }
 

@@ -224,6 +224,91 @@ impl ArrayScript {
     }
 }
 
+/// The one-task job that follows a refined sweep's arrays (`--dependency=afterany` on all of
+/// them): it runs `granflow slurm submit` on the resolved sweep again, which computes the next
+/// round of the refinement from the results and submits it as further arrays (with its own
+/// next-round job), or, when the refinement is complete, submits nothing and gathers the
+/// tables. No process waits on the login node.
+#[derive(Debug, Clone)]
+pub struct NextRoundScript {
+    pub sweep_name: String,
+    pub sweep_dir: PathBuf,
+    pub results_arg: PathBuf,
+    pub sweep_file: PathBuf,
+    pub granflow: PathBuf,
+    /// the array job ids it waits for
+    pub after: Vec<String>,
+    pub jobs_per_task: usize,
+    pub options: SbatchOptions,
+}
+
+impl NextRoundScript {
+    pub fn render(&self) -> String {
+        let o = &self.options;
+        let log = log_dir(&self.sweep_dir).join("next-round-%j.log");
+        let mut s = String::new();
+        let _ = writeln!(s, "#!/bin/bash");
+        let _ = writeln!(
+            s,
+            "# granflow sweep '{}' on Slurm: the next round of its refinement, after arrays {}.",
+            self.sweep_name,
+            self.after.join(", ")
+        );
+        let _ = writeln!(s, "#SBATCH --job-name=granflow-{}-next", self.sweep_name);
+        let _ = writeln!(s, "#SBATCH --dependency=afterany:{}", self.after.join(":"));
+        let _ = writeln!(s, "#SBATCH --output={}", sbatch_path(&log));
+        let _ = writeln!(s, "#SBATCH --error={}", sbatch_path(&log));
+        let _ = writeln!(s, "#SBATCH --chdir={}", sbatch_path(&self.sweep_dir));
+        let _ = writeln!(s, "#SBATCH --cpus-per-task=1");
+        if let Some(p) = &o.partition {
+            let _ = writeln!(s, "#SBATCH --partition={p}");
+        }
+        for extra in &o.extra {
+            let _ = writeln!(s, "#SBATCH {extra}");
+        }
+        let _ = writeln!(s);
+        let mut cmd = vec![
+            shell_quote(&path_str(&self.granflow)),
+            "slurm".to_string(),
+            "submit".to_string(),
+            shell_quote(&path_str(&self.sweep_file)),
+            "--results".to_string(),
+            shell_quote(&path_str(&self.results_arg)),
+            "--jobs-per-task".to_string(),
+            self.jobs_per_task.to_string(),
+            "--cpus-per-task".to_string(),
+            o.cpus_per_task.to_string(),
+            "--granflow".to_string(),
+            shell_quote(&path_str(&self.granflow)),
+        ];
+        if let Some(p) = &o.partition {
+            cmd.extend(["--partition".to_string(), shell_quote(p)]);
+        }
+        if let Some(t) = &o.time {
+            cmd.extend(["--time".to_string(), shell_quote(t)]);
+        }
+        if let Some(k) = o.max_parallel {
+            cmd.extend(["--max-parallel".to_string(), k.to_string()]);
+        }
+        if !o.extra.is_empty() {
+            cmd.push("--".to_string());
+            cmd.extend(o.extra.iter().map(|e| shell_quote(e)));
+        }
+        let _ = writeln!(
+            s,
+            "# the tables of the rounds so far, then the next round (nothing when complete)"
+        );
+        let _ = writeln!(
+            s,
+            "{} gather {} || echo \"granflow: gather failed\"",
+            shell_quote(&path_str(&self.granflow)),
+            shell_quote(&path_str(&self.sweep_dir))
+        );
+        let _ = writeln!(s, "exec {}", cmd.join(" "));
+        s
+    }
+}
+
 /// Double-quote a string that contains `${...}` expansions to keep, escaping the rest.
 fn shell_quote_keep_vars(s: &str) -> String {
     let escaped: String = s

@@ -9,7 +9,7 @@
 use super::config::{DEFAULT_MAX_ARRAY_SIZE, query_max_array_size};
 use super::link::{PreparedSweep, SweepLink};
 use super::record::{self, Submission, SubmissionLog, SubmittedArray};
-use super::script::{ArrayScript, SbatchOptions, exit_dir, log_dir};
+use super::script::{ArrayScript, NextRoundScript, SbatchOptions, exit_dir, log_dir};
 use super::split::{split_into_arrays, task_count};
 use anyhow::{Context, Result, bail, ensure};
 use std::path::{Path, PathBuf};
@@ -45,6 +45,8 @@ pub struct SubmitOutcome {
     /// Tasks per array limit used, and where it came from.
     pub max_array_size: usize,
     pub max_array_size_source: &'static str,
+    /// The job that submits a refined sweep's next round after these arrays.
+    pub next_round_job: Option<String>,
 }
 
 fn absolute(p: &Path) -> Result<PathBuf> {
@@ -78,6 +80,17 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
         );
     }
     if sweep.job_ids.is_empty() {
+        if sweep.refining {
+            // the next-round job of a refinement that is complete: nothing left to submit
+            return Ok(SubmitOutcome {
+                sweep,
+                scripts: Vec::new(),
+                array_job_ids: Vec::new(),
+                max_array_size: 0,
+                max_array_size_source: "nothing submitted: the refinement is complete",
+                next_round_job: None,
+            });
+        }
         bail!(
             "{}: the sweep has no jobs, nothing to submit",
             opts.sweep_file.display()
@@ -107,6 +120,7 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
         array_job_ids: Vec::new(),
         max_array_size,
         max_array_size_source: source,
+        next_round_job: None,
     };
     if opts.dry_run {
         return Ok(outcome);
@@ -115,6 +129,9 @@ pub fn submit(link: &dyn SweepLink, opts: &SubmitOptions) -> Result<SubmitOutcom
     let arrays = submit_arrays(&outcome, &chunks, opts);
     let (arrays, failure) = arrays?;
     outcome.array_job_ids = arrays.into_iter().map(|a| a.array_job_id).collect();
+    if failure.is_none() && outcome.sweep.next_round {
+        outcome.next_round_job = Some(submit_next_round(&outcome, opts, &granflow)?);
+    }
     if let Some(e) = failure {
         let done = if outcome.array_job_ids.is_empty() {
             "nothing was submitted".to_string()
@@ -233,6 +250,36 @@ fn submit_arrays(
         )?;
     }
     Ok((arrays, failure))
+}
+
+/// Submit the one-task job that computes and submits a refined sweep's next round once the
+/// arrays of this submission have ended ([`NextRoundScript`]); its Slurm job id.
+fn submit_next_round(
+    outcome: &SubmitOutcome,
+    opts: &SubmitOptions,
+    granflow: &Path,
+) -> Result<String> {
+    let sweep = &outcome.sweep;
+    let script = NextRoundScript {
+        sweep_name: sweep.name.clone(),
+        sweep_dir: sweep.sweep_dir.clone(),
+        results_arg: sweep.results_arg.clone(),
+        sweep_file: sweep.sweep_file.clone(),
+        granflow: granflow.to_path_buf(),
+        after: outcome.array_job_ids.clone(),
+        jobs_per_task: opts.jobs_per_task,
+        options: opts.sbatch.clone(),
+    };
+    let path = record::slurm_dir(&sweep.sweep_dir)
+        .join("scripts")
+        .join(format!(
+            "next-round-after-{}.sbatch",
+            outcome.array_job_ids[0]
+        ));
+    record::write_atomically(&path, script.render().as_bytes())?;
+    let mut cmd = Command::new("sbatch");
+    cmd.arg("--parsable").arg(&path);
+    run_sbatch(cmd, &path)
 }
 
 /// Run `sbatch --parsable ...` and return the job id (`<id>` or `<id>;<cluster>`).

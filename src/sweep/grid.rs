@@ -21,6 +21,9 @@ pub struct PlannedJob {
     /// the parameters its sweep varies (filled by [`super::load_sweep`]; a job's figures name
     /// them with the chosen values, never as "at their defaults")
     pub swept: Vec<&'static str>,
+    /// its refinement level: 0 on the base grid, `k` for a point added by refinement at
+    /// 1/2^k of the base spacing (see [`super::refine`])
+    pub level: u32,
 }
 
 /// Where a set of values came from, for error messages.
@@ -248,6 +251,7 @@ pub(crate) fn expand(spec: &SweepSpec, src: &Source) -> Result<Vec<PlannedJob>, 
                 id,
                 params,
                 swept: Vec::new(),
+                level: 0,
             });
         }
     }

@@ -23,6 +23,8 @@ mod job_error;
 pub mod phase;
 pub mod ranges;
 mod readable;
+pub mod refine;
+pub mod rounds;
 pub mod runner;
 pub mod running;
 pub mod select;
@@ -213,13 +215,13 @@ pub fn open_results(dir: &Path) -> Result<(Sweep, SweepDirs), SpecError> {
         .map(|root| sweep.results_dir(root))
         .filter(|laid_out| laid_out.tables == full)
         .map_or_else(|| dir.join("jobs"), |laid_out| laid_out.jobs);
-    Ok((
-        sweep,
-        SweepDirs {
-            tables: dir.to_path_buf(),
-            jobs,
-        },
-    ))
+    let dirs = SweepDirs {
+        tables: dir.to_path_buf(),
+        jobs,
+    };
+    // the points its refinement added so far (none without a `refine` section)
+    let sweep = rounds::replay(&sweep, &dirs)?.sweep;
+    Ok((sweep, dirs))
 }
 
 /// Why a directory without `sweep.ron` cannot be read as a sweep's results, and where to
@@ -270,6 +272,8 @@ pub fn open_any(
     } else {
         let sweep = load_sweep(path, overrides)?;
         let dirs = sweep.results_dir(root);
+        // the points its refinement added so far (none without a `refine` section)
+        let sweep = rounds::replay(&sweep, &dirs)?.sweep;
         Ok((sweep, dirs))
     }
 }

@@ -214,6 +214,9 @@ pub struct PhaseDiagram {
     /// axis labels: symbol, unit and key of each parameter ([`axis_label`])
     pub x_label: String,
     pub y_label: Option<String>,
+    /// some points were added by refinement (`refine`): numeric axes are drawn to scale, each
+    /// point in the cell of its share, with the estimated boundaries
+    pub refined: bool,
     /// size, resolution and title of the picture
     pub frame: Frame,
 }
@@ -406,8 +409,37 @@ impl PhaseDiagram {
             cells,
             x_label: axis_label(engine, x),
             y_label: y.map(|y| axis_label(engine, y)),
+            refined: jobs.iter().any(|j| j.job.level > 0),
             frame: Frame::default(),
         })
+    }
+
+    /// The boundaries a refined diagram estimates along x: in each row (y index), between
+    /// neighbouring done points whose labels differ, the midpoint of their x values and half
+    /// their distance (the uncertainty: half the last bisection interval). Empty for an axis
+    /// that is not numeric.
+    pub fn boundaries(&self) -> Vec<(usize, f64, f64)> {
+        let Some(xs) = numbers(&self.xs) else {
+            return Vec::new();
+        };
+        let mut order: Vec<usize> = (0..xs.len()).collect();
+        order.sort_by(|&a, &b| xs[a].total_cmp(&xs[b]));
+        let mut out = Vec::new();
+        for yi in 0..self.ys.len().max(1) {
+            let done: Vec<(f64, String)> = order
+                .iter()
+                .filter_map(|&xi| {
+                    let v = self.cells.get(&(xi, yi))?.verdict()?;
+                    Some((xs[xi], v.label))
+                })
+                .collect();
+            for w in done.windows(2) {
+                if w[0].1 != w[1].1 {
+                    out.push((yi, 0.5 * (w[0].0 + w[1].0), 0.5 * (w[1].0 - w[0].0)));
+                }
+            }
+        }
+        out
     }
 
     /// The grid as a text table: rows y (largest on top), columns x.
@@ -506,9 +538,16 @@ impl PhaseDiagram {
     /// The picture's size in CSS pixels: the frame's, or from the grid, the title and the
     /// legend.
     pub fn size(&self) -> (u32, u32) {
-        let w = self.frame.size.width.unwrap_or_else(|| {
-            (LEFT + LEGEND_WIDTH + 20 + 110 * self.xs.len() as i32).max(700) as u32
-        });
+        // a refined axis is drawn to scale: its width does not grow with its points
+        let columns = if self.refined {
+            self.xs.len().min(10)
+        } else {
+            self.xs.len()
+        };
+        let w =
+            self.frame.size.width.unwrap_or_else(|| {
+                (LEFT + LEGEND_WIDTH + 20 + 110 * columns as i32).max(700) as u32
+            });
         let h = self.frame.size.height.unwrap_or_else(|| {
             let legend = 24 * self.legend().len() as i32 + 20;
             let plot = (90 * self.ys.len() as i32).max(legend).max(160);
@@ -574,8 +613,22 @@ impl PhaseDiagram {
         let plot_h = (h as i32 - top - BOTTOM).max(40);
         let nx = self.xs.len().max(1) as i32;
         let ny = self.ys.len().max(1) as i32;
-        let px = |xi: usize| LEFT + (2 * xi as i32 + 1) * plot_w / (2 * nx);
-        let py = |yi: usize| top + plot_h - (2 * yi as i32 + 1) * plot_h / (2 * ny);
+        // a refined diagram draws numeric axes to scale (a margin of 40 px at each end)
+        let scaled = |vals: &[ParamValue], len: i32| {
+            numbers(vals)
+                .filter(|_| self.refined && vals.len() > 1)
+                .map(|v| Scaled::new(v, len))
+        };
+        let sx = scaled(&self.xs, plot_w);
+        let sy = self.y_label.as_ref().and(scaled(&self.ys, plot_h));
+        let px = |xi: usize| match &sx {
+            Some(a) => LEFT + a.at(xi),
+            None => LEFT + (2 * xi as i32 + 1) * plot_w / (2 * nx),
+        };
+        let py = |yi: usize| match &sy {
+            Some(a) => top + plot_h - a.at(yi),
+            None => top + plot_h - (2 * yi as i32 + 1) * plot_h / (2 * ny),
+        };
         let font = |size: f64| s.font(size);
         let centred =
             |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
@@ -585,7 +638,74 @@ impl PhaseDiagram {
             [(u(LEFT), u(top)), (u(LEFT + plot_w), u(top + plot_h))],
             black,
         ))?;
+        let light = RGBColor(215, 215, 215).stroke_width(s.line(1.0));
+        // each point's share: the cell between the midpoints to its neighbours
+        if let Some(a) = &sx {
+            for m in a.midpoints() {
+                root.draw(&PathElement::new(
+                    vec![(u(LEFT + m), u(top)), (u(LEFT + m), u(top + plot_h))],
+                    light,
+                ))?;
+            }
+        }
+        if let Some(a) = &sy {
+            for m in a.midpoints() {
+                let yy = top + plot_h - m;
+                root.draw(&PathElement::new(
+                    vec![(u(LEFT), u(yy)), (u(LEFT + plot_w), u(yy))],
+                    light,
+                ))?;
+            }
+        }
+        // the estimated boundaries with their uncertainty (a band of +- half the interval)
+        if let Some(a) = &sx {
+            let band = RGBColor(31, 119, 180);
+            for (yi, x, half) in self.boundaries() {
+                let (y0, y1) = match &sy {
+                    Some(b) => b.share(yi),
+                    None => (
+                        (2 * yi as i32) * plot_h / (2 * ny),
+                        (2 * yi as i32 + 2) * plot_h / (2 * ny),
+                    ),
+                };
+                let (x0, x1) = (a.to(x - half), a.to(x + half));
+                root.draw(&Rectangle::new(
+                    [
+                        (u(LEFT + x0), u(top + plot_h - y1)),
+                        (u(LEFT + x1), u(top + plot_h - y0)),
+                    ],
+                    band.mix(0.15).filled(),
+                ))?;
+                let xm = a.to(x);
+                root.draw(&PathElement::new(
+                    vec![
+                        (u(LEFT + xm), u(top + plot_h - y1)),
+                        (u(LEFT + xm), u(top + plot_h - y0)),
+                    ],
+                    band.stroke_width(s.line(2.0)),
+                ))?;
+            }
+        }
+        let mut last_tick = i32::MIN;
         for (xi, v) in self.xs.iter().enumerate() {
+            // refined points crowd the axis: a tick label at least 60 px from the last
+            if sx.is_some() {
+                let at = px(xi);
+                root.draw(&PathElement::new(
+                    vec![(u(at), u(top + plot_h)), (u(at), u(top + plot_h + 5))],
+                    black,
+                ))?;
+                if at - last_tick < 60 {
+                    continue;
+                }
+                last_tick = at;
+                root.draw(&Text::new(
+                    fmt_value(v),
+                    (u(at), u(top + plot_h + 9)),
+                    centred(13.0, VPos::Top),
+                ))?;
+                continue;
+            }
             root.draw(&PathElement::new(
                 vec![
                     (u(px(xi)), u(top + plot_h)),
@@ -702,6 +822,80 @@ impl PhaseDiagram {
             ))?;
         }
         Ok(())
+    }
+}
+
+/// The values of an axis if all are numbers.
+fn numbers(vals: &[ParamValue]) -> Option<Vec<f64>> {
+    vals.iter().map(ParamValue::as_f64).collect()
+}
+
+/// A numeric axis drawn to scale over `len` pixels, 40 px in from each end.
+struct Scaled {
+    values: Vec<f64>,
+    lo: f64,
+    hi: f64,
+    len: i32,
+}
+
+impl Scaled {
+    const PAD: i32 = 40;
+
+    fn new(values: Vec<f64>, len: i32) -> Self {
+        let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Scaled {
+            values,
+            lo,
+            hi,
+            len,
+        }
+    }
+
+    /// Pixels from the axis' start to value `v`.
+    fn to(&self, v: f64) -> i32 {
+        let span = (self.hi - self.lo).max(f64::MIN_POSITIVE);
+        Self::PAD + ((v - self.lo) / span * f64::from(self.len - 2 * Self::PAD)).round() as i32
+    }
+
+    /// Pixels to the `i`-th value.
+    fn at(&self, i: usize) -> i32 {
+        self.to(self.values[i])
+    }
+
+    /// Pixels to the midpoints between neighbouring values (the cells' edges).
+    fn midpoints(&self) -> Vec<i32> {
+        let mut v = self.values.clone();
+        v.sort_by(f64::total_cmp);
+        v.windows(2).map(|w| self.to(0.5 * (w[0] + w[1]))).collect()
+    }
+
+    /// The pixel range of the `i`-th value's cell (to the midpoints, or the ends).
+    fn share(&self, i: usize) -> (i32, i32) {
+        let x = self.values[i];
+        let below = self
+            .values
+            .iter()
+            .copied()
+            .filter(|&v| v < x)
+            .fold(f64::NAN, f64::max);
+        let above = self
+            .values
+            .iter()
+            .copied()
+            .filter(|&v| v > x)
+            .fold(f64::NAN, f64::min);
+        let lo = if below.is_nan() {
+            0
+        } else {
+            self.to(0.5 * (below + x))
+        };
+        let hi = if above.is_nan() {
+            self.len
+        } else {
+            self.to(0.5 * (above + x))
+        };
+        (lo, hi)
     }
 }
 
@@ -971,6 +1165,52 @@ mod tests {
             steady,
             guard_valid,
         }
+    }
+
+    #[test]
+    fn a_refined_diagram_places_boundaries_between_differing_neighbours() {
+        // L/W 1, 2 (base) and 1.5, 1.25 (refined), in no order; plug below 1.5, slug from it;
+        // the point at 3 is not done and does not count
+        let xs: Vec<ParamValue> = [2.0, 1.0, 1.5, 1.25, 3.0]
+            .into_iter()
+            .map(ParamValue::Number)
+            .collect();
+        let labels = ["slug 1.00", "plug 1.00", "slug 1.00", "plug 1.00"];
+        let mut cells: BTreeMap<(usize, usize), Cell> = labels
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let cell = Cell {
+                    jobs: vec![job(l, 1.0, true, true)],
+                    not_done: 0,
+                };
+                ((i, 0), cell)
+            })
+            .collect();
+        cells.insert(
+            (4, 0),
+            Cell {
+                jobs: Vec::new(),
+                not_done: 1,
+            },
+        );
+        let diagram = PhaseDiagram {
+            x: "length_over_width".into(),
+            y: None,
+            xs,
+            ys: vec![ParamValue::Number(0.0)],
+            cells,
+            x_label: "L/W".into(),
+            y_label: None,
+            refined: true,
+            frame: Frame::default(),
+        };
+        assert_eq!(diagram.boundaries(), vec![(0, 1.375, 0.125)]);
+        // drawn to scale: 1.25 sits a quarter of the way from 1 to 2
+        let a = Scaled::new(vec![1.0, 2.0, 1.25, 3.0], 440);
+        assert_eq!((a.at(0), a.at(2), a.at(1), a.at(3)), (40, 85, 220, 400));
+        assert_eq!(a.share(2), (63, 153));
+        diagram.png().expect("a refined diagram draws");
     }
 
     #[test]

@@ -5,6 +5,7 @@
 use super::eta::SweepEta;
 use super::execute::{self, JobEnd, JobError};
 use super::grid::PlannedJob;
+use super::rounds::{self, Refined};
 use super::store::{self, Claim, JobDir, JobResult, JobState, NotClaimed};
 use super::{Sweep, SweepDirs, tables};
 use crossbeam_channel::{Receiver, Sender, unbounded};
@@ -100,50 +101,115 @@ fn in_range(plan: &[PlannedJob], range: Option<(usize, usize)>) -> Vec<&PlannedJ
 }
 
 /// Run the jobs of a sweep that are not done yet; write the tables at the end. The stages, in
-/// order: [`expand`] (the jobs this run is about), [`select`] (which of them to run, largest
-/// first), [`run`] (run them: workers and one writer), [`gather`] (the tables).
+/// order: [`expand`] (the jobs this round is about), [`select`] (which of them to run, largest
+/// first), [`run`] (run them: workers and one writer), [`refine`] (the next round's points,
+/// for a sweep with a `refine` section; again from [`expand`] while a round adds points),
+/// [`gather`] (the tables).
 pub fn run_sweep(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::Result<RunSummary> {
-    let jobs = expand(sweep, dirs, opts)?;
-    let (todo, mut summary) = select(&jobs, dirs, opts)?;
-    let show = Show::new(sweep, opts, jobs.len(), &todo, summary.already_done);
-    show.say(format!(
-        "sweep {}: {} selected, {} done, {} to run{} on {} (results in {})",
-        sweep.name,
-        counted(jobs.len(), "job"),
-        summary.already_done,
-        todo.len(),
-        if summary.outdated > 0 {
-            format!(" ({} of them outdated results)", summary.outdated)
-        } else {
-            String::new()
-        },
-        counted(opts.threads, "thread"),
-        dirs.tables.display()
-    ));
-    run(sweep, dirs, opts, &todo, &show, &mut summary)?;
-    gather(sweep, dirs, opts, &show, &summary)?;
-    show.say(format!(
-        "run finished: {} done now ({} before), {} failed, {} skipped as failed, {} held by another runner",
-        summary.finished,
-        summary.already_done,
-        summary.failed,
-        summary.skipped_failed,
-        summary.busy
-    ));
-    Ok(summary)
-}
-
-/// Stage 1: the jobs this run is about, the plan's (in `job_range`), with the resolved sweep
-/// written first when asked.
-fn expand<'a>(
-    sweep: &'a Sweep,
-    dirs: &SweepDirs,
-    opts: &RunOptions,
-) -> anyhow::Result<Vec<&'a PlannedJob>> {
     if opts.write_resolved {
         sweep.write_resolved(dirs)?;
     }
-    Ok(in_range(&sweep.plan, opts.job_range))
+    let mut current = refine(sweep, dirs, opts)?;
+    let mut total = RunSummary::default();
+    // the plan jobs before this round's (earlier rounds', already run)
+    let mut from = 0;
+    let mut last_show = None;
+    for round in 0.. {
+        let jobs = expand(&current.sweep, opts, from);
+        let (todo, mut summary) = select(&jobs, dirs, opts)?;
+        let show = Show::new(sweep, opts, jobs.len(), &todo, summary.already_done);
+        show.say(format!(
+            "sweep {}{}: {} selected, {} done, {} to run{} on {} (results in {})",
+            sweep.name,
+            if round > 0 {
+                format!(" round {round} of the refinement")
+            } else {
+                String::new()
+            },
+            counted(jobs.len(), "job"),
+            summary.already_done,
+            todo.len(),
+            if summary.outdated > 0 {
+                format!(" ({} of them outdated results)", summary.outdated)
+            } else {
+                String::new()
+            },
+            counted(opts.threads, "thread"),
+            dirs.tables.display()
+        ));
+        run(sweep, dirs, opts, &todo, &show, &mut summary)?;
+        total.add(&summary);
+        last_show = Some(show);
+        if total.halted.is_some() {
+            break;
+        }
+        from = current.sweep.plan.len();
+        current = refine(sweep, dirs, opts)?;
+        if current.sweep.plan.len() == from {
+            break;
+        }
+    }
+    let show = last_show.expect("at least one round");
+    gather(&current.sweep, dirs, opts, &show, &total)?;
+    if !current.rounds.is_empty() {
+        show.say(format!(
+            "refinement: {} rounds adding {} points ({}), {}",
+            current.rounds.len(),
+            current.rounds.iter().sum::<usize>(),
+            current
+                .rounds
+                .iter()
+                .map(|n| n.to_string())
+                .collect::<Vec<_>>()
+                .join(" + "),
+            if current.complete {
+                "complete"
+            } else {
+                "waiting for unfinished jobs"
+            }
+        ));
+    }
+    show.say(format!(
+        "run finished: {} done now ({} before), {} failed, {} skipped as failed, {} held by another runner",
+        total.finished, total.already_done, total.failed, total.skipped_failed, total.busy
+    ));
+    Ok(total)
+}
+
+impl RunSummary {
+    /// Add a round's counts (the first resource error stays).
+    fn add(&mut self, round: &RunSummary) {
+        self.selected += round.selected;
+        self.already_done += round.already_done;
+        self.finished += round.finished;
+        self.failed += round.failed;
+        self.skipped_failed += round.skipped_failed;
+        self.busy += round.busy;
+        self.outdated += round.outdated;
+        if self.halted.is_none() {
+            self.halted.clone_from(&round.halted);
+        }
+    }
+}
+
+/// Stage 1: the jobs this round is about: the plan's from index `from` on (the jobs of the
+/// rounds before are run), in `job_range`.
+fn expand<'a>(sweep: &'a Sweep, opts: &RunOptions, from: usize) -> Vec<&'a PlannedJob> {
+    in_range(&sweep.plan[from..], opts.job_range)
+}
+
+/// The refine stage: the sweep with the points of every round whose predecessors are done
+/// ([`rounds::replay`]); the sweep itself without a `refine` section, and for a run of a
+/// `--job-range` (a Slurm task runs the jobs it was given).
+fn refine(sweep: &Sweep, dirs: &SweepDirs, opts: &RunOptions) -> anyhow::Result<Refined> {
+    if opts.job_range.is_some() {
+        return Ok(Refined {
+            sweep: sweep.clone(),
+            rounds: Vec::new(),
+            complete: true,
+        });
+    }
+    Ok(rounds::replay(sweep, dirs)?)
 }
 
 /// Stage 2: which jobs to run, from the state of each one's directory (made when missing):

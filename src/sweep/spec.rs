@@ -262,6 +262,9 @@ pub struct SweepSpec {
     /// analysis settings of the engine's analysis (keys it does not set take their defaults)
     #[serde(default, skip_serializing_if = "is_empty_settings")]
     pub analysis: serde_json::Value,
+    /// adaptive refinement of one or two axes where the quantity changes (docs/sweeps.md)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refine: Option<super::refine::RefineSpec>,
     /// the `--set` overrides already applied (written into the resolved sweep; informational)
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub overrides: Vec<String>,
@@ -754,7 +757,7 @@ impl SpecError {
 
 /// Check the parts of a spec that do not need the expansion, one phase per concern and in this
 /// order (the first error is reported): the engine, the name, the run settings, the analysis
-/// settings, the fixed and point values, the axes, the links, the seeds.
+/// settings, the fixed and point values, the axes, the links, the seeds, the refinement.
 pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> {
     let engine = check_engine(spec, src)?;
     check_name_key(spec, src)?;
@@ -763,7 +766,124 @@ pub(crate) fn validate(spec: &SweepSpec, src: &Source) -> Result<(), SpecError> 
     check_values(spec, engine, src)?;
     check_axes(spec, engine, src)?;
     check_links(spec, engine, src)?;
-    check_seeds(spec, src)
+    check_seeds(spec, src)?;
+    check_refine(spec, engine, src)
+}
+
+/// The `refine` section: one or two refined axes, each a swept numeric axis of at least two
+/// values; levels from 1 to [`super::refine::MAX_LEVELS`]; a budget that holds the base plan;
+/// a numeric summary column of the engine's analysis for `Change` and `Minimum` (one axis),
+/// a relative tolerance above 0.
+fn check_refine(spec: &SweepSpec, engine: &EngineDef, src: &Source) -> Result<(), SpecError> {
+    use super::refine::{MAX_LEVELS, Quantity};
+    let Some(r) = &spec.refine else {
+        return Ok(());
+    };
+    let at = |key: &str, message: String| src.error_at(Some("refine"), key, 0, message);
+    let swept: Vec<&str> = spec.axes.0.keys().map(String::as_str).collect();
+    if r.axes.is_empty() || r.axes.len() > 2 {
+        return Err(at(
+            "axes",
+            format!(
+                "{} axes given: refine one or two of the swept axes ({})",
+                r.axes.len(),
+                swept.join(", ")
+            ),
+        ));
+    }
+    for (i, name) in r.axes.iter().enumerate() {
+        let Some(values) = spec.axes.0.get(name) else {
+            return Err(at(
+                "axes",
+                format!(
+                    "\"{name}\" is not a swept axis; allowed: {}",
+                    swept.join(", ")
+                ),
+            ));
+        };
+        if r.axes[..i].contains(name) {
+            return Err(at("axes", format!("\"{name}\" is given twice")));
+        }
+        let real = engine
+            .param(name)
+            .is_some_and(|d| matches!(d.kind, ParamKind::Real));
+        if !real || values.len() < 2 || values.iter().any(|v| v.as_f64().is_none()) {
+            return Err(at(
+                "axes",
+                format!(
+                    "\"{name}\": a refined axis needs at least two values of a real (not \
+                     integer or choice) parameter"
+                ),
+            ));
+        }
+        if spec.linked.iter().any(|l| &l.param == name) {
+            return Err(at(
+                "axes",
+                format!("\"{name}\" is linked: refine the axis it follows"),
+            ));
+        }
+    }
+    if r.levels == 0 || r.levels > MAX_LEVELS {
+        return Err(at(
+            "levels",
+            format!("levels = {}: allowed 1 to {MAX_LEVELS}", r.levels),
+        ));
+    }
+    let grid: usize = spec.axes.0.values().map(Vec::len).product();
+    let base = (grid + spec.points.len()) * spec.seeds.len();
+    if r.budget < base {
+        return Err(at(
+            "budget",
+            format!(
+                "budget = {} jobs is less than the base plan's {base} jobs: allowed at least {base}",
+                r.budget
+            ),
+        ));
+    }
+    let column = match &r.quantity {
+        Quantity::Label => return Ok(()),
+        Quantity::Change { column, relative } => {
+            if !(relative.is_finite() && *relative > 0.0) {
+                return Err(at(
+                    "quantity",
+                    format!("relative = {relative}: allowed a finite number above 0"),
+                ));
+            }
+            column
+        }
+        Quantity::Minimum { column } => {
+            if r.axes.len() != 1 {
+                return Err(at(
+                    "quantity",
+                    "Minimum refines one axis: give one axis".into(),
+                ));
+            }
+            column
+        }
+    };
+    let numeric: Vec<String> = registry::analysis_of(engine)
+        .summary_columns()
+        .into_iter()
+        .filter(|(_, k)| {
+            matches!(
+                k,
+                crate::analysis::columns::ColumnKind::F64
+                    | crate::analysis::columns::ColumnKind::I64
+            )
+        })
+        .map(|(n, _)| n)
+        .collect();
+    if !numeric.contains(column) {
+        return Err(at(
+            "quantity",
+            format!(
+                "column \"{column}\" is not a numeric summary column of the {} analysis; allowed: {}",
+                engine.name,
+                numeric.join(", ")
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The engine exists in the registry.
@@ -1355,5 +1475,68 @@ mod tests {
         assert_eq!(error(&text).key.as_deref(), Some("fixed.restitution"));
         let text = text.replace("\"edmd\"", "\"nope\"");
         assert_eq!(error(&text).key.as_deref(), Some("engine"));
+    }
+
+    #[test]
+    fn refine_is_checked_key_by_key() {
+        let refine = |section: &str| edmd(FIXED, AXES, &format!("refine: ({section}),"));
+        let ok = refine("axes: [\"length_over_width\"], levels: 3, budget: 10");
+        check(&parsed(&ok), &ok).unwrap();
+        let cases = [
+            (
+                "axes: [\"restitution\"], levels: 3, budget: 10",
+                "refine.axes",
+                "\"restitution\" is not a swept axis; allowed: length_over_width",
+            ),
+            (
+                "axes: [], levels: 3, budget: 10",
+                "refine.axes",
+                "0 axes given: refine one or two of the swept axes (length_over_width)",
+            ),
+            (
+                "axes: [\"length_over_width\"], levels: 0, budget: 10",
+                "refine.levels",
+                "levels = 0: allowed 1 to 16",
+            ),
+            (
+                "axes: [\"length_over_width\"], levels: 3, budget: 1",
+                "refine.budget",
+                "budget = 1 jobs is less than the base plan's 2 jobs: allowed at least 2",
+            ),
+            (
+                "axes: [\"length_over_width\"], levels: 3, budget: 10, \
+                 quantity: Change(column: \"slip_velocity\", relative: 0.0)",
+                "refine.quantity",
+                "relative = 0: allowed a finite number above 0",
+            ),
+        ];
+        for (section, key, message) in cases {
+            let text = refine(section);
+            let e = error(&text);
+            assert_eq!(placed(&e), (Some(key), message, 6), "{text}");
+        }
+        let text = refine(
+            "axes: [\"length_over_width\"], levels: 3, budget: 10, \
+             quantity: Minimum(column: \"nope\")",
+        );
+        let e = error(&text);
+        assert_eq!(e.key.as_deref(), Some("refine.quantity"));
+        assert!(
+            e.message.starts_with(
+                "column \"nope\" is not a numeric summary column of the edmd analysis; allowed: "
+            ) && e.message.contains("slip_velocity"),
+            "{e}"
+        );
+        // an integer axis cannot be bisected
+        let text = edmd(
+            "width_over_diameter: 10.0, height_over_diameter: 10.0",
+            "particles: [40, 80]",
+            "refine: (axes: [\"particles\"], levels: 2, budget: 10),",
+        );
+        assert_eq!(
+            error(&text).message,
+            "\"particles\": a refined axis needs at least two values of a real (not integer \
+             or choice) parameter"
+        );
     }
 }

@@ -77,7 +77,8 @@ pub fn collect_checked<'a>(sweep: &'a Sweep, dirs: &SweepDirs, full: bool) -> Ve
                 state = dir.state(true);
             }
             let result = if state == JobState::Done {
-                let checked = dir.result()
+                let checked = dir
+                    .result()
                     .map_err(|e| (store::RESULT_FILE, format!("{e:#}")))
                     .and_then(|r| {
                         dir.params()
@@ -349,6 +350,9 @@ fn jobs_table(engine: &EngineDef, jobs: &[GatheredJob], statistics: bool) -> Vec
     let mut cols = vec![
         column("job_id", ColumnKind::Str, &|j| j.job.id.0.as_str().into()),
         column("plan_index", ColumnKind::I64, &|j| j.job.index.into()),
+        column("refinement_level", ColumnKind::I64, &|j| {
+            (j.job.level as usize).into()
+        }),
         column("engine", ColumnKind::Str, &|j| {
             j.job.params.engine.as_str().into()
         }),

@@ -439,6 +439,7 @@ fn a_pooled_cell_with_two_labels_is_marked() {
         cells,
         x_label: "L/W (length_over_width)".into(),
         y_label: None,
+        refined: false,
         frame: Frame::default(),
     };
     let table = diagram.table();

@@ -145,6 +145,8 @@ impl SweepLink for StandInLink {
             results_arg: root,
             sweep_file: copy,
             job_ids: (0..self.jobs).map(|i| format!("job{i}")).collect(),
+            refining: false,
+            next_round: false,
         })
     }
 
@@ -671,4 +673,103 @@ fn sweep_on_slurm_equals_local_run() {
         "a task rewrote files of a job that was already done"
     );
     let _ = std::fs::remove_dir_all(&root);
+}
+
+/// Two Knudsen numbers refined on the flow rate (every pair differs): round 1 adds Kn = 1.25,
+/// round 2 adds 0.875 and 1.625 (DSMC, about 0.5 s a job); the same file as
+/// tests/sweep/refine.rs.
+const REFINED_RON: &str = r#"(
+    engine: "dsmc",
+    fixed: (forcing: 0.5, wall_model: "thermal", particles_per_cell: 20.0),
+    axes: (knudsen_number: [0.5, 2.0]),
+    refine: (axes: ["knudsen_number"], levels: 2, budget: 10,
+             quantity: Change(column: "flow_rate", relative: 1e-9)),
+    run: (time: 20.0, snapshot_interval: 1.0),
+)
+"#;
+
+/// A refined sweep on Slurm: each round is further arrays, submitted by a one-task job after
+/// the arrays before (no process on the login node); it ends with the jobs, ids and levels of
+/// the local run, every job computed once, and nothing left in the queue.
+#[test]
+fn a_refined_sweep_runs_its_rounds_as_further_arrays() {
+    if !slurm_installed("a_refined_sweep_runs_its_rounds_as_further_arrays") {
+        return;
+    }
+    let _cluster = CLUSTER.lock().unwrap_or_else(|e| e.into_inner());
+    let root = scratch("slurm-refine");
+    let sweep_file = root.join("refined.ron");
+    std::fs::write(&sweep_file, REFINED_RON).unwrap();
+    let local_root = root.join("local");
+    run_ok(
+        granflow()
+            .arg("run")
+            .arg(&sweep_file)
+            .arg("--results")
+            .arg(&local_root)
+            .args(["--threads", "1"]),
+    );
+    let slurm_root = root.join("slurm");
+    let printed = run_ok(
+        granflow()
+            .args(["slurm", "submit"])
+            .arg(&sweep_file)
+            .args(["--cpus-per-task", "1", "--time", "30:00", "--results"])
+            .arg(&slurm_root),
+    );
+    assert!(
+        printed.contains("computes the refinement's next round"),
+        "{printed}"
+    );
+    let sweep_dir = sweep_dir_under(&slurm_root);
+    let queued = || {
+        let out = Command::new("squeue")
+            .args(["-h", "-o", "%j", "-n"])
+            .arg("granflow-refined,granflow-refined-next")
+            .output()
+            .unwrap();
+        String::from_utf8_lossy(&out.stdout).trim().to_string()
+    };
+    let start = Instant::now();
+    loop {
+        let (sweep, dirs) = granflow::sweep::open_results(&sweep_dir).unwrap();
+        let done = sweep.plan.iter().all(|j| dirs.job(&j.id).is_done());
+        if sweep.plan.len() == 5 && done && queued().is_empty() {
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(900),
+            "the rounds did not end: {} jobs, queue: {}",
+            sweep.plan.len(),
+            queued()
+        );
+        std::thread::sleep(Duration::from_secs(2));
+    }
+    let plan = |dir: &Path| -> Vec<(String, u32)> {
+        let (sweep, _) = granflow::sweep::open_results(dir).unwrap();
+        sweep
+            .plan
+            .iter()
+            .map(|j| (j.id.0.clone(), j.level))
+            .collect()
+    };
+    assert_eq!(plan(&sweep_dir), plan(&sweep_dir_under(&local_root)));
+    // three submissions: the base grid and one per round
+    let log = slurm::record::SubmissionLog::read(&sweep_dir)
+        .unwrap()
+        .unwrap();
+    assert_eq!(log.submissions.len(), 3, "{log:?}");
+    for (id, _) in plan(&sweep_dir) {
+        let text = std::fs::read_to_string(sweep_dir.join("jobs").join(&id).join(JOB_LOG)).unwrap();
+        let events = granflow::sweep::store::log_events(&text);
+        let count = |w: &str| {
+            events
+                .iter()
+                .filter(|e| e.split(' ').next() == Some(w))
+                .count()
+        };
+        assert_eq!((count("start"), count("done")), (1, 1), "{id}: {text}");
+    }
+    // the last round's job gathered the tables
+    assert!(sweep_dir.join("jobs.parquet").exists());
 }
