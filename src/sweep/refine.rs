@@ -363,6 +363,15 @@ mod tests {
         }
     }
 
+    /// Every cell of the final partition whose corners differ is of the finest size.
+    fn assert_mixed_cells_are_finest(lat: &Lattice, all: &Slice) {
+        for (c, size) in lat.leaves(all) {
+            let cs = lat.corners(c, size);
+            let mixed = cs.iter().any(|a| cs.iter().any(|b| all[a] != all[b]));
+            assert!(!mixed || size == 1, "cell {c:?} of size {size} is mixed");
+        }
+    }
+
     #[test]
     fn one_dimension_bisects_the_interval_where_the_label_changes() {
         // base 0, 1, 2, 3 (lattice 0, 8, 16, 24 at 3 levels); plug below 1.3, slug above
@@ -500,11 +509,7 @@ mod tests {
         let (all, rounds) = refine_to_end(&lat, &Quantity::Label, &truth, 1000);
         assert_eq!(rounds, 2);
         // every finest cell that the boundary crosses exists: its corners are known
-        for (c, size) in lat.leaves(&all) {
-            let cs = lat.corners(c, size);
-            let mixed = cs.iter().any(|a| cs.iter().any(|b| all[a] != all[b]));
-            assert!(!mixed || size == 1, "cell {c:?} of size {size} is mixed");
-        }
+        assert_mixed_cells_are_finest(&lat, &all);
         // fewer points than the full 9 x 9 lattice of the same resolution
         assert!(all.len() < 81, "{} points", all.len());
     }
@@ -528,11 +533,7 @@ mod tests {
         let (all, rounds) = refine_to_end(&lat, &Quantity::Label, &truth, 10_000);
         assert_eq!(rounds, 4);
         // to the finest spacing wherever the circle crosses a cell's corners
-        for (c, size) in lat.leaves(&all) {
-            let cs = lat.corners(c, size);
-            let mixed = cs.iter().any(|a| cs.iter().any(|b| all[a] != all[b]));
-            assert!(!mixed || size == 1, "cell {c:?} of size {size} is mixed");
-        }
+        assert_mixed_cells_are_finest(&lat, &all);
         assert!(all.len() * 5 <= 65 * 65, "{} points of 4225", all.len());
     }
 

@@ -675,19 +675,6 @@ fn sweep_on_slurm_equals_local_run() {
     let _ = std::fs::remove_dir_all(&root);
 }
 
-/// Two Knudsen numbers refined on the flow rate (every pair differs): round 1 adds Kn = 1.25,
-/// round 2 adds 0.875 and 1.625 (DSMC, about 0.5 s a job); the same file as
-/// tests/sweep/refine.rs.
-const REFINED_RON: &str = r#"(
-    engine: "dsmc",
-    fixed: (forcing: 0.5, wall_model: "thermal", particles_per_cell: 20.0),
-    axes: (knudsen_number: [0.5, 2.0]),
-    refine: (axes: ["knudsen_number"], levels: 2, budget: 10,
-             quantity: Change(column: "flow_rate", relative: 1e-9)),
-    run: (time: 20.0, snapshot_interval: 1.0),
-)
-"#;
-
 /// A refined sweep on Slurm: each round is further arrays, submitted by a one-task job after
 /// the arrays before (no process on the login node); it ends with the jobs, ids and levels of
 /// the local run, every job computed once, and nothing left in the queue.
@@ -699,7 +686,7 @@ fn a_refined_sweep_runs_its_rounds_as_further_arrays() {
     let _cluster = CLUSTER.lock().unwrap_or_else(|e| e.into_inner());
     let root = scratch("slurm-refine");
     let sweep_file = root.join("refined.ron");
-    std::fs::write(&sweep_file, REFINED_RON).unwrap();
+    std::fs::write(&sweep_file, crate::sweep::refine::SWEEP).unwrap();
     let local_root = root.join("local");
     run_ok(
         granflow()

@@ -3,7 +3,7 @@
 mod cli;
 mod exit_codes;
 mod orchestrator;
-mod refine;
+pub(crate) mod refine;
 mod registry;
 mod store;
 mod tables;

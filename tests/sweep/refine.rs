@@ -12,7 +12,8 @@ use std::time::{Duration, Instant};
 
 /// Two Knudsen numbers, refined on the flow rate with a tolerance every pair exceeds, 2
 /// levels: round 1 adds Kn = 1.25, round 2 adds 0.875 and 1.625 (DSMC, about 0.5 s a job).
-const SWEEP: &str = r#"(
+/// Also the Slurm test's.
+pub(crate) const SWEEP: &str = r#"(
     engine: "dsmc",
     fixed: (forcing: 0.5, wall_model: "thermal", particles_per_cell: 20.0),
     axes: (knudsen_number: [0.5, 2.0]),
