@@ -336,6 +336,15 @@ mod tests {
         Class::Label(s.into())
     }
 
+    /// The base grid's points with their classes from `truth`.
+    fn base(lattice: &Lattice, truth: &dyn Fn(Site) -> Class) -> Slice {
+        lattice
+            .base_sites()
+            .into_iter()
+            .map(|s| (s, truth(s)))
+            .collect()
+    }
+
     /// Run rounds to the end with `truth` giving each site's class; the sites in order.
     fn refine_to_end(
         lattice: &Lattice,
@@ -343,11 +352,7 @@ mod tests {
         truth: &dyn Fn(Site) -> Class,
         mut room: usize,
     ) -> (Slice, usize) {
-        let mut known: Slice = lattice
-            .base_sites()
-            .into_iter()
-            .map(|s| (s, truth(s)))
-            .collect();
+        let mut known = base(lattice, truth);
         let mut rounds = 0;
         loop {
             let new = next_round(lattice, quantity, std::slice::from_ref(&known), room);
@@ -494,11 +499,7 @@ mod tests {
                 label("b")
             }
         };
-        let known: Slice = lat
-            .base_sites()
-            .into_iter()
-            .map(|s| (s, truth(s)))
-            .collect();
+        let known = base(&lat, &truth);
         let first = next_round(&lat, &Quantity::Label, std::slice::from_ref(&known), 100);
         // round 1: the three cells with both labels among their corners ((0,0), (0,1),
         // (1,0); the cell (1,1) has b at every corner) get edge midpoints and centres, the
@@ -565,11 +566,7 @@ mod tests {
                 label("b")
             }
         };
-        let known: Slice = lat
-            .base_sites()
-            .into_iter()
-            .map(|s| (s, truth(s)))
-            .collect();
+        let known = base(&lat, &truth);
         // three mixed intervals; room for two points: the first two in site order
         let new = next_round(&lat, &Quantity::Label, std::slice::from_ref(&known), 2);
         assert_eq!(new, vec![(0, [8, 0]), (0, [24, 0])]);
