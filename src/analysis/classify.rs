@@ -201,10 +201,14 @@ pub const SIGNIFICANCE_Z: f64 = 5.0;
 /// count as "clearly above noise".
 pub const MIN_RATIO: f64 = 2.0;
 
-/// Fraction of the antisymmetric excess power in one k_x above which the antisymmetric content
-/// is a wave coherent over the whole length (an S-wave with that many humps) rather than a
-/// modulation confined to a slug (which spreads over about L / slug length wave numbers).
-pub const COHERENCE_THRESHOLD: f64 = 0.5;
+/// Share of the antisymmetric excess power in the odd harmonics of one fundamental k_x = n
+/// at or above which the antisymmetric content is an S-wave with n humps: the glide-symmetric
+/// part carries at least twice the power of the rest. An S-wave (a band whose centre snakes
+/// along x with n humps, whatever its shape, amplitude or thickness modulation) is invariant
+/// under the glide x -> x + L/(2n), y -> W - y, so its antisymmetric power lies at k_x = n, 3n,
+/// 5n, ... only (share 1 up to noise); an antisymmetric modulation confined to a slug spreads
+/// over neighbouring wave numbers, odd and even alike (share about 1/2).
+pub const COHERENCE_THRESHOLD: f64 = 2.0 / 3.0;
 
 /// False-alarm probability of one test, P(Z > SIGNIFICANCE_Z) for a standard normal Z.
 pub fn false_alarm() -> f64 {
@@ -406,7 +410,8 @@ pub struct Peak {
 pub struct Assessment {
     /// "homogeneous", "plug", "s-wave", "slug", "wavy-slug" or "s-wave+slug"
     pub label: &'static str,
-    /// humps of the S-wave (dominant k_x of the antisymmetric family), 0 without an S-wave
+    /// humps of the S-wave (the fundamental k_x of the antisymmetric family), 0 without an
+    /// S-wave
     pub humps: u32,
     /// structure along z stands above noise
     pub three_dimensional: bool,
@@ -418,69 +423,115 @@ pub struct Assessment {
     pub peaks: [Option<Peak>; 5],
     /// max(ratio / threshold, peak ratio / peak threshold): > 1 means significant
     pub significance: [f64; 5],
-    /// dominant |k_x| of the antisymmetric excess power (0 if there is none)
+    /// the same test on the slug content: the along-flow modes that are not even harmonics
+    /// (2n, 4n, ...) of an S-wave with n humps (all along-flow modes without an S-wave)
+    pub slug: f64,
+    /// fundamental k_x = n of the antisymmetric excess power (0 if there is none)
     pub antisymmetric_kx: u32,
-    /// fraction of the antisymmetric excess power in that k_x
+    /// share of the antisymmetric excess power in the odd harmonics n, 3n, 5n, ... of it
     pub coherence: f64,
+}
+
+/// Sum test and peak test of a set of modes with `dims` dimensions in all: (ratio, sum-test
+/// threshold, strongest mode against its peak threshold, significance).
+fn test_modes(modes: &[Mode], p0: f64) -> (f64, f64, Option<Peak>, f64) {
+    let dims: usize = modes.iter().map(|m| m.dims).sum();
+    let power: f64 = modes.iter().map(|m| m.power).sum();
+    let ratio = if dims > 0 && p0 > 0.0 {
+        power / (dims as f64 * p0)
+    } else {
+        0.0
+    };
+    let threshold = threshold_ratio(dims);
+    let mut significance = ratio / threshold;
+    let tested: Vec<&Mode> = modes.iter().filter(|m| m.dims > 0).collect();
+    if tested.is_empty() || p0 <= 0.0 {
+        return (ratio, threshold, None, significance);
+    }
+    // the family's false-alarm probability shared among its modes (Bonferroni)
+    let p_mode = false_alarm() / tested.len() as f64;
+    let mut peak: Option<Peak> = None;
+    for m in tested {
+        let ratio = m.power / (m.dims as f64 * p0);
+        let threshold = chi2_ratio_quantile(m.dims as f64, p_mode).max(MIN_RATIO);
+        if peak.is_none_or(|q| ratio / threshold > q.ratio / q.threshold) {
+            peak = Some(Peak {
+                mode: *m,
+                ratio,
+                threshold,
+            });
+        }
+    }
+    if let Some(q) = peak {
+        significance = significance.max(q.ratio / q.threshold);
+    }
+    (ratio, threshold, peak, significance)
+}
+
+/// The S-wave content of the antisymmetric modes: (fundamental n, share of the excess power
+/// in n, 3n, 5n, ...). The dominant k_x column (largest excess over its noise) is an odd
+/// harmonic of the fundamental; the fundamental is its smallest divisor d with an odd
+/// quotient whose column stands above noise by the peak test (dims of the column, the
+/// family's false-alarm probability shared among the columns), so a sharp band whose third
+/// harmonic outweighs its first still has one hump. Excess powers are not clipped at zero,
+/// so noise columns add nothing on average.
+fn s_wave_content(antisymmetric: &[Mode], n1: usize, p0: f64) -> (u32, f64) {
+    let mut columns = vec![(0.0, 0usize); n1 / 2 + 1];
+    for m in antisymmetric {
+        columns[m.k1].0 += m.power;
+        columns[m.k1].1 += m.dims;
+    }
+    let excess: Vec<f64> = columns.iter().map(|&(p, d)| p - d as f64 * p0).collect();
+    let total: f64 = excess.iter().skip(1).sum();
+    let Some(dominant) = (1..columns.len())
+        .filter(|&k| columns[k].1 > 0)
+        .max_by(|&a, &b| excess[a].total_cmp(&excess[b]))
+    else {
+        return (0, 0.0);
+    };
+    if total <= 0.0 || excess[dominant] <= 0.0 {
+        return (0, 0.0);
+    }
+    let p_column = false_alarm() / (columns.len() - 1) as f64;
+    let stands_out = |k: usize| {
+        let (p, d) = columns[k];
+        d > 0 && p / (d as f64 * p0) > chi2_ratio_quantile(d as f64, p_column).max(MIN_RATIO)
+    };
+    let fundamental = (1..=dominant)
+        .find(|&d| dominant % d == 0 && (dominant / d) % 2 == 1 && stands_out(d))
+        .unwrap_or(dominant);
+    let odd_harmonics: f64 = (fundamental..columns.len())
+        .step_by(2 * fundamental)
+        .map(|k| excess[k])
+        .sum();
+    (fundamental as u32, (odd_harmonics / total).clamp(0.0, 1.0))
 }
 
 /// Name the structure from family powers (of one snapshot or averaged over a window), with
 /// noise P0 per dimension, on grid `n`.
 pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64) -> Assessment {
-    let dims = family_dims(n);
-    let powers = p.as_array();
     let modes = family_modes(p, n);
     let mut ratios = [0.0; 5];
     let mut thresholds = [0.0; 5];
     let mut peaks: [Option<Peak>; 5] = [None; 5];
     let mut significance = [0.0; 5];
     for f in 0..5 {
-        ratios[f] = if dims[f] > 0 && p0 > 0.0 {
-            powers[f] / (dims[f] as f64 * p0)
-        } else {
-            0.0
-        };
-        thresholds[f] = threshold_ratio(dims[f]);
-        significance[f] = ratios[f] / thresholds[f];
-        let tested: Vec<&Mode> = modes[f].iter().filter(|m| m.dims > 0).collect();
-        if tested.is_empty() || p0 <= 0.0 {
-            continue;
-        }
-        // the family's false-alarm probability shared among its modes (Bonferroni)
-        let p_mode = false_alarm() / tested.len() as f64;
-        for m in tested {
-            let ratio = m.power / (m.dims as f64 * p0);
-            let threshold = chi2_ratio_quantile(m.dims as f64, p_mode).max(MIN_RATIO);
-            if peaks[f].is_none_or(|q| ratio / threshold > q.ratio / q.threshold) {
-                peaks[f] = Some(Peak {
-                    mode: *m,
-                    ratio,
-                    threshold,
-                });
-            }
-        }
-        if let Some(q) = peaks[f] {
-            significance[f] = significance[f].max(q.ratio / q.threshold);
-        }
+        (ratios[f], thresholds[f], peaks[f], significance[f]) = test_modes(&modes[f], p0);
     }
-    let sig = significance.map(|s| s > 1.0);
-    // excess antisymmetric power per |k_x| over its noise
-    let mut by_kx = vec![(0.0, 0usize); n[0] / 2 + 1];
-    for m in &modes[2] {
-        by_kx[m.k1].0 += m.power;
-        by_kx[m.k1].1 += m.dims;
-    }
-    let mut best = (0usize, 0.0f64);
-    let mut total = 0.0;
-    for (k, &(pk, d)) in by_kx.iter().enumerate().skip(1) {
-        let excess = (pk - d as f64 * p0).max(0.0);
-        total += excess;
-        if excess > best.1 {
-            best = (k, excess);
-        }
-    }
-    let coherence = if total > 0.0 { best.1 / total } else { 0.0 };
-    let (label, humps) = name_structure(sig, coherence, best.0 as u32);
+    let (kx, coherence) = s_wave_content(&modes[2], n[0], p0);
+    let s_wave = significance[2] > 1.0 && coherence >= COHERENCE_THRESHOLD;
+    // an S-wave's own along-flow content (its band's thickness or density varying along it,
+    // a glide-symmetric part) lies at the even harmonics 2n, 4n, ...: not a slug
+    let slug = if s_wave {
+        let own = |m: &&Mode| m.k1 % (2 * kx as usize) != 0;
+        let rest: Vec<Mode> = modes[1].iter().filter(own).copied().collect();
+        test_modes(&rest, p0).3
+    } else {
+        significance[1]
+    };
+    let mut sig = significance.map(|s| s > 1.0);
+    sig[1] = slug > 1.0;
+    let (label, humps) = name_structure(sig, coherence, kx);
     Assessment {
         label,
         humps,
@@ -489,24 +540,28 @@ pub fn assess(p: &FamilyPowers, n: [usize; 3], p0: f64) -> Assessment {
         thresholds,
         peaks,
         significance,
-        antisymmetric_kx: best.0 as u32,
+        slug,
+        antisymmetric_kx: kx,
         coherence,
     }
 }
 
-/// The structure named by which families are significant ([`FAMILY_NAMES`] order), the
-/// coherence of the antisymmetric excess and its dominant k_x (the label table of docs/analysis.md).
+/// The structure named by which contents are significant ([`FAMILY_NAMES`] order, with the
+/// slug content in place of the along-flow family), the share of the antisymmetric excess in
+/// the odd harmonics of its fundamental and that fundamental k_x (the label table of
+/// docs/analysis.md).
 pub fn name_structure(significant: [bool; 5], coherence: f64, kx: u32) -> (&'static str, u32) {
-    let [transverse, along, anti, sym, _span] = significant;
-    if anti && along {
-        if coherence >= COHERENCE_THRESHOLD {
+    let [transverse, slug, anti, sym, _span] = significant;
+    let wave = coherence >= COHERENCE_THRESHOLD;
+    if anti && slug {
+        if wave {
             ("s-wave+slug", kx)
         } else {
             ("wavy-slug", 0)
         }
     } else if anti {
         ("s-wave", kx)
-    } else if along {
+    } else if slug {
         ("slug", 0)
     } else if transverse || sym {
         ("plug", 0)

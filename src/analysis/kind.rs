@@ -93,12 +93,14 @@ pub enum Analysis {
 impl AnalysisKind {
     /// Version of the analysis: bump it when a change alters results of the same records
     /// (results of older versions are flagged as outdated). Structure: 1 until the label
-    /// probabilities and the balances, 2 since. Dense: 3 since Q6 (profile and plug), 4 since
+    /// probabilities and the balances, 2 since, 3 since an S-wave is recognised by its glide
+    /// symmetry (humps = the fundamental k_x, its even harmonics along x not a slug) and labels
+    /// show the 3D mark. Dense: 3 since Q6 (profile and plug), 4 since
     /// the plug is found at the change of slope in phi (zones.rs), 5 since the summary states
     /// the wall's e_n (`wall_restitution`: which wall damping made the records).
     pub fn version(self) -> u32 {
         match self {
-            AnalysisKind::Structure => 2,
+            AnalysisKind::Structure => 3,
             AnalysisKind::Lattice => 1,
             AnalysisKind::Rarefied => 1,
             AnalysisKind::Dense => 5,

@@ -6,8 +6,10 @@
 //! 1. a family is *present* when it is significant in more than half of the window's snapshots
 //!    (its `presence` is that fraction; its strength is the window-averaged significance);
 //! 2. the candidate label is the structure the present families name (the label table; humps
-//!    and coherence of the S-wave from the window-averaged spectrum), so a combined label such
-//!    as s-wave+slug needs each of its parts in most snapshots;
+//!    and coherence of the S-wave from the window-averaged spectrum; the slug content, the
+//!    along-flow modes that are not even harmonics of the snapshot's S-wave, present like a
+//!    family), so a combined label such as s-wave+slug needs each of its parts in most
+//!    snapshots;
 //! 3. its probability is the fraction of snapshots whose own label it is; it is the window's
 //!    label when that fraction is at least [`CLEAR_MAJORITY`] (the label holds at least twice
 //!    as often as all others together). Otherwise the result says `mixed` and lists the
@@ -49,12 +51,16 @@ pub fn label_key(label: &str, humps: u32) -> String {
 pub fn statistics(snapshots: &[Assessment], average: &Assessment) -> LabelStatistics {
     let m = snapshots.len();
     let mut presence = [0.0; 5];
+    let mut slug_presence = 0.0;
     let mut counts: Vec<(String, usize)> = Vec::new();
     for a in snapshots {
         for (f, p) in presence.iter_mut().enumerate() {
             if a.significance[f] > 1.0 {
                 *p += 1.0 / m as f64;
             }
+        }
+        if a.slug > 1.0 {
+            slug_presence += 1.0 / m as f64;
         }
         let key = label_key(a.label, a.humps);
         match counts.iter_mut().find(|(k, _)| *k == key) {
@@ -68,7 +74,8 @@ pub fn statistics(snapshots: &[Assessment], average: &Assessment) -> LabelStatis
         .into_iter()
         .map(|(k, c)| (k, c as f64 / m.max(1) as f64))
         .collect();
-    let present = presence.map(|p| p > 0.5);
+    let mut present = presence.map(|p| p > 0.5);
+    present[1] = slug_presence > 0.5;
     let (candidate, humps) = name_structure(present, average.coherence, average.antisymmetric_kx);
     // the probability of a label counts its snapshots whatever their hump numbers
     let probability =
