@@ -472,7 +472,12 @@ const EVOLUTION_TABLE: TableDef = TableDef {
         ColumnDef {
             name: "structure",
             kind: ColumnKind::Str,
-            doc: "the window's label with its humps, mixed without a clear majority",
+            doc: "the window's label with its humps and a 3d mark, mixed without a clear majority",
+        },
+        ColumnDef {
+            name: "window_three_dimensional",
+            kind: ColumnKind::Bool,
+            doc: "structure along z above noise in the window-averaged spectrum",
         },
         ColumnDef {
             name: "candidate",
@@ -781,6 +786,17 @@ impl Analysis {
         }
     }
 
+    /// The label as a reader sees it: with its humps (`s-wave(2)`) and, for a structure that
+    /// varies along z, the ` 3d` mark ([`super::labels::shown`]).
+    pub fn shown_label(&self) -> String {
+        let (label, humps) = self.label();
+        let three_dimensional = match self {
+            Analysis::Structure(a) => a.summary.three_dimensional,
+            _ => false,
+        };
+        super::labels::shown(label, humps, three_dimensional)
+    }
+
     /// The kind this analysis is of.
     pub fn kind(&self) -> AnalysisKind {
         match self {
@@ -881,6 +897,7 @@ fn structure_rows(a: &JobAnalysis, table: &str) -> Vec<Vec<Cell>> {
                     m.time.into(),
                     m.window_snapshots.into(),
                     m.structure.as_str().into(),
+                    m.three_dimensional.into(),
                     m.candidate.as_str().into(),
                     m.probability.into(),
                     Cell::List(

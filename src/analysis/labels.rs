@@ -47,6 +47,21 @@ pub fn label_key(label: &str, humps: u32) -> String {
     }
 }
 
+/// The mark a label carries when the structure varies along z (the spanwise family stands
+/// above noise): `s-wave(2) 3d`.
+pub const THREE_D_MARK: &str = " 3d";
+
+/// A label as shown to a reader: with its humps and, for a three-dimensional structure, the
+/// [`THREE_D_MARK`] (`s-wave(2) 3d`, `slug`).
+pub fn shown(label: &str, humps: u32, three_dimensional: bool) -> String {
+    let key = label_key(label, humps);
+    if three_dimensional {
+        format!("{key}{THREE_D_MARK}")
+    } else {
+        key
+    }
+}
+
 /// Decide a window's label from the assessments of its snapshots and of its average.
 pub fn statistics(snapshots: &[Assessment], average: &Assessment) -> LabelStatistics {
     let m = snapshots.len();

@@ -8,7 +8,8 @@
 //! lies within one record spacing of m. Over the window:
 //! - the label, as the run's label is decided (per-snapshot verdicts, the candidate the
 //!   families present in most snapshots name, `mixed` without a clear majority), with the
-//!   fraction of snapshots carrying the candidate;
+//!   fraction of snapshots carrying the candidate, marked ` 3d` when the window-averaged
+//!   spanwise family stands above noise;
 //! - the strongest modes of each plane (xy, xz, yz) of the window-averaged folded spectrum,
 //!   with their power over shot noise;
 //! - the mean translational and rotational energy per particle.
@@ -47,8 +48,12 @@ pub struct MilestoneRow {
     pub time: f64,
     /// records in the window
     pub window_snapshots: u32,
-    /// the window's label with its humps (`s-wave(2)`), `mixed` without a clear majority
+    /// the window's label as shown: with its humps and ` 3d` for a three-dimensional
+    /// structure (`s-wave(2) 3d`), `mixed` without a clear majority
     pub structure: String,
+    /// structure along z stands above noise in the window-averaged spectrum
+    #[serde(default)]
+    pub three_dimensional: bool,
     /// the candidate label (what the families present in most snapshots name)
     pub candidate: String,
     /// fraction of the window's snapshots whose own label is the candidate
@@ -152,7 +157,9 @@ fn row(
         verdicts.push(assess(&f, n, p0));
         avg.add_scaled(&f, 1.0 / window.len() as f64);
     }
-    let stats = labels::statistics(&verdicts, &assess(&avg, n, p0));
+    let average = assess(&avg, n, p0);
+    let stats = labels::statistics(&verdicts, &average);
+    let three_dimensional = average.three_dimensional;
     let m = window.len() as f64;
     MilestoneRow {
         milestone,
@@ -160,7 +167,8 @@ fn row(
         collisions_per_particle: nearest.collisions_per_particle,
         time: nearest.time,
         window_snapshots: window.len() as u32,
-        structure: labels::label_key(&stats.label, stats.humps),
+        structure: labels::shown(&stats.label, stats.humps, three_dimensional),
+        three_dimensional,
         candidate: stats.candidate,
         probability: stats.probability,
         peaks: [&avg.xy, &avg.xz, &avg.yz]

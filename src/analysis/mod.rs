@@ -199,6 +199,10 @@ pub struct Summary {
     pub humps: u32,
     /// structure along z (spanwise) stands above noise
     pub three_dimensional: bool,
+    /// the label as shown: with its humps and ` 3d` for a three-dimensional structure
+    /// (`s-wave(2) 3d`); results of older analysis versions lack it (empty)
+    #[serde(default)]
+    pub shown_label: String,
     /// the run reached a steady state
     pub steady: bool,
     /// steady window in collisions per particle
@@ -247,9 +251,14 @@ pub struct Summary {
     /// versions hold the text "family plane(k1,k2) ratio/threshold; ...")
     #[serde(deserialize_with = "modes::list_or_legacy_text")]
     pub family_peaks: Vec<FamilyPeak>,
-    /// dominant |k_x| of the antisymmetric excess power and the fraction of that excess in it
+    /// fundamental k_x = n of the antisymmetric excess power and the share of that excess in
+    /// its odd harmonics n, 3n, 5n, ... (an S-wave's glide symmetry)
     pub antisymmetric_kx: u32,
     pub antisymmetric_coherence: f64,
+    /// significance of the slug content: the along-flow modes without the S-wave's even
+    /// harmonics 2n, 4n, ... (all along-flow modes without an S-wave)
+    #[serde(default = "nan")]
+    pub significance_slug: f64,
     /// the five strongest xy modes (results of older versions hold the text
     /// "(k_x,k_y) P [P/noise x]; ...")
     #[serde(deserialize_with = "modes::list_or_legacy_text")]
@@ -637,6 +646,7 @@ pub fn analyse_job(records: &[SnapshotRecord], settings: &AnalysisSettings) -> J
         in_window.iter().filter(|r| !r.profile.is_empty()).collect();
     let (profiles, slip) = profiles::profiles(&with_profiles);
     summary.slip_velocity = slip;
+    summary.shown_label = labels::shown(&summary.label, summary.humps, summary.three_dimensional);
     summary.note = notes.join("; ");
     JobAnalysis {
         summary,
@@ -711,6 +721,7 @@ fn summarise_families(
     ] = a.thresholds;
     summary.antisymmetric_kx = a.antisymmetric_kx;
     summary.antisymmetric_coherence = a.coherence;
+    summary.significance_slug = a.slug;
     if steady {
         summary.label = stats.label.clone();
         summary.humps = stats.humps;

@@ -495,9 +495,10 @@ fn print_structure(a: &JobAnalysis) {
         analysis::modes::joined(&s.family_peaks)
     );
     outln!(
-        "antisymmetric: dominant k_x = {}, coherence {:.2}",
+        "antisymmetric: fundamental k_x = {}, share in its odd harmonics {:.2}; slug significance {:.2}",
         s.antisymmetric_kx,
-        s.antisymmetric_coherence
+        s.antisymmetric_coherence,
+        s.significance_slug
     );
     outln!(
         "dominant xy modes: {}",

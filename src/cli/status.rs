@@ -54,10 +54,7 @@ fn status_json(
                 JobState::Failed(e) => (Some(e.clone()), None, None),
                 JobState::Damaged { reason, .. } => (Some(reason.clone()), None, None),
                 _ => {
-                    let label = j.result.as_ref().map(|r| {
-                        let (l, h) = r.analysis.label();
-                        crate::analysis::labels::label_key(l, h)
-                    });
+                    let label = j.result.as_ref().map(|r| r.analysis.shown_label());
                     let p = j
                         .result
                         .as_ref()
@@ -135,7 +132,6 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
             JobState::Done => {
                 let r = j.result.as_ref().expect("done jobs have results");
                 let summary = r.analysis.summary();
-                let (label, humps) = r.analysis.label();
                 let p = summary.get("label_probability").and_then(|v| v.as_f64());
                 let guard = summary
                     .get("collapse_guard_valid")
@@ -151,7 +147,7 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                 format!(
                     "done     {:.0}/{target:.0} {unit}  {}{}{}  {:.1} s  {:.2e} events/s{}{outdated}",
                     r.clock(run.clock()),
-                    crate::analysis::labels::label_key(label, humps),
+                    r.analysis.shown_label(),
                     p.map_or(String::new(), |p| format!(" (p = {p:.2})")),
                     if guard {
                         ""

@@ -109,7 +109,7 @@ pub(super) fn structure_figures(a: &JobAnalysis, records: &[&SnapshotRecord]) ->
                 "The structure label of every snapshot on its own ({} snapshots); bar below: \
                  {window_text}; the job's label: {}.",
                 labels.len(),
-                crate::analysis::labels::label_key(&s.label, s.humps)
+                crate::analysis::labels::shown(&s.label, s.humps, s.three_dimensional)
             ),
             plot: Plot::Labels {
                 snapshots: labels,

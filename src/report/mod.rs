@@ -41,14 +41,12 @@ impl JobView<'_> {
         self.gathered.result.is_none() && self.analysis.is_some()
     }
 
-    /// The structure label with its humps (e.g. "s-wave(2)"), empty without an analysis.
+    /// The structure label with its humps and 3D mark (e.g. "s-wave(2) 3d"), empty without
+    /// an analysis.
     pub fn label(&self) -> String {
         self.analysis
             .as_ref()
-            .map(|a| {
-                let (l, humps) = a.label();
-                crate::analysis::labels::label_key(l, humps)
-            })
+            .map(|a| a.shown_label())
             .unwrap_or_default()
     }
 }

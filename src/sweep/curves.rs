@@ -875,6 +875,7 @@ pub fn minimum_diagram(
                         weight: 1.0,
                         steady,
                         guard_valid: true,
+                        three_dimensional: false,
                     }]
                 },
                 not_done,

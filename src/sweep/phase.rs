@@ -1,6 +1,7 @@
 //! Phase diagrams: the structure label of every done job placed on a grid of two swept
 //! parameters (or a strip for one), printed as a table and drawn as PNG and SVG (plotters):
-//! one marker per structure, hump counts written beside S-wave markers (as thesis Fig. 5.25).
+//! one marker per structure, hump counts written beside S-wave markers (as thesis Fig. 5.25),
+//! "3D" beside the markers of structures that vary along z.
 
 use super::grid::PlannedJob;
 use super::tables::GatheredJob;
@@ -28,6 +29,8 @@ pub struct CellJob {
     pub steady: bool,
     /// the collapse guard stayed within its validity limit
     pub guard_valid: bool,
+    /// its structure varies along z (the analysis' `three_dimensional`)
+    pub three_dimensional: bool,
 }
 
 /// One cell of the diagram: the done jobs at that point (one per seed) and how many jobs are
@@ -49,6 +52,8 @@ pub struct CellVerdict {
     /// the merged distribution over the steady replicas, most frequent first
     pub probabilities: Vec<(String, f64)>,
     pub guard_flagged: bool,
+    /// most of the steady replicas vary along z (more than half)
+    pub three_dimensional: bool,
 }
 
 /// "label p; label p" (the jobs table's `label_probabilities`) back into pairs.
@@ -87,6 +92,7 @@ impl Cell {
                 probability: f64::NAN,
                 probabilities: Vec::new(),
                 guard_flagged,
+                three_dimensional: false,
             });
         }
         let total: f64 = steady.iter().map(|j| j.weight.max(1.0)).sum();
@@ -118,12 +124,14 @@ impl Cell {
         if !measured {
             p = f64::NAN;
         }
+        let three_d = steady.iter().filter(|j| j.three_dimensional).count();
         Some(CellVerdict {
             label,
             humps,
             probability: p,
             probabilities: merged,
             guard_flagged,
+            three_dimensional: 2 * three_d > steady.len(),
         })
     }
 
@@ -154,7 +162,7 @@ impl Cell {
     }
 
     /// Text of the cell: `label[p]` (`label(humps)[p]`), `mixed[a/b]`, `not-steady`, with
-    /// `!tc` when a collapse guard went beyond its validity, [`DISAGREE`] when its jobs' labels
+    /// ` 3d` when most replicas vary along z, `!tc` when a collapse guard went beyond its validity, [`DISAGREE`] when its jobs' labels
     /// differ, and `[n not done]`.
     pub fn text(&self) -> String {
         let mut parts: Vec<String> = Vec::new();
@@ -179,6 +187,9 @@ impl Cell {
                     v.probability
                 ),
             };
+            if v.three_dimensional {
+                t.push_str(crate::analysis::labels::THREE_D_MARK);
+            }
             if v.guard_flagged {
                 t.push_str("!tc");
             }
@@ -357,6 +368,10 @@ fn cell_job(analysis: &crate::analysis::Analysis) -> CellJob {
             .get("collapse_guard_valid")
             .and_then(|v| v.as_bool())
             .unwrap_or(true),
+        three_dimensional: summary
+            .get("three_dimensional")
+            .and_then(|v| v.as_bool())
+            .unwrap_or(false),
     }
 }
 
@@ -579,6 +594,9 @@ impl PhaseDiagram {
         if verdicts.iter().flatten().any(|v| v.humps > 0) {
             out.push(Legend::Humps);
         }
+        if verdicts.iter().flatten().any(|v| v.three_dimensional) {
+            out.push(Legend::ThreeD);
+        }
         if verdicts
             .iter()
             .flatten()
@@ -756,6 +774,9 @@ impl PhaseDiagram {
                             font(15.0),
                         ))?;
                     }
+                    if v.three_dimensional {
+                        root.draw(&Text::new(THREE_D_TEXT, (x + u(13), y + u(2)), font(12.0)))?;
+                    }
                     if v.probability.is_finite() && v.label != "mixed" {
                         root.draw(&Text::new(
                             format!("{:.2}", v.probability),
@@ -793,6 +814,14 @@ impl PhaseDiagram {
                 Legend::Humps => {
                     root.draw(&Text::new("2", (at.0, at.1), centred(15.0, VPos::Center)))?;
                     "humps of the S-wave".into()
+                }
+                Legend::ThreeD => {
+                    root.draw(&Text::new(
+                        THREE_D_TEXT,
+                        (at.0, at.1),
+                        centred(12.0, VPos::Center),
+                    ))?;
+                    "varies along z (3D)".into()
                 }
                 Legend::Probability => {
                     root.draw(&Text::new("0.9", (at.0, at.1), centred(12.0, VPos::Center)))?;
@@ -908,6 +937,8 @@ const LEGEND_WIDTH: i32 = 290;
 const DISAGREE_SIZE: f64 = 20.0;
 /// The legend line of the [`DISAGREE`] mark.
 pub const DISAGREE_LEGEND: &str = "jobs in the cell disagree (labels differ)";
+/// The mark beside a marker whose structure varies along z.
+const THREE_D_TEXT: &str = "3D";
 /// The dot of a cell without a done job.
 const GREY_DOT: RGBColor = RGBColor(180, 180, 180);
 
@@ -918,6 +949,8 @@ enum Legend {
     Marker(String),
     /// the number beside S-wave markers
     Humps,
+    /// the "3D" beside markers of structures that vary along z
+    ThreeD,
     /// the number under a marker
     Probability,
     /// the grey dot of a cell without a done job
@@ -1164,6 +1197,7 @@ mod tests {
             weight,
             steady,
             guard_valid,
+            three_dimensional: false,
         }
     }
 

@@ -83,3 +83,53 @@ fn confusion_table_of_synthetic_structures() {
     }
     assert!(wrong.is_empty(), "misnamed:\n{}", wrong.join("\n"));
 }
+
+/// Where a label is shown, a structure that varies along z says so: the job's `shown_label`
+/// (label with humps and ` 3d`), the milestone table's `structure` and `three_dimensional`,
+/// and the phase diagram's cell text; a flat structure carries no mark.
+#[test]
+fn labels_show_the_3d_mark_where_they_are_shown() {
+    use granflow::analysis::milestones::MilestonePlan;
+    use granflow::engine::Clock;
+    use granflow::sweep::phase::{Cell, CellJob};
+    let b = tall_box();
+    let settings = AnalysisSettings {
+        milestones: Some(MilestonePlan {
+            clock: Clock::CollisionsPerParticle,
+            readings: vec![300.0],
+            every: 0.0,
+            window: 5,
+        }),
+        ..AnalysisSettings::default()
+    };
+    for (s, mark) in [
+        (Structure::SWave3d, true),
+        (Structure::SWave(2, true), false),
+    ] {
+        let a = analyse_job(&window(&b, s, SNAPSHOTS, 7), &settings);
+        let (label, three_d) = s.expected();
+        assert_eq!(a.summary.three_dimensional, three_d, "{}", s.name());
+        let shown = if mark { format!("{label} 3d") } else { label };
+        assert_eq!(a.summary.shown_label, shown, "{}", s.name());
+        let m = &a.milestones[0];
+        assert_eq!(
+            (m.structure.as_str(), m.three_dimensional),
+            (shown.as_str(), mark)
+        );
+        let cell = Cell {
+            jobs: (0..3)
+                .map(|_| CellJob {
+                    label: a.summary.label.clone(),
+                    humps: a.summary.humps,
+                    probabilities: vec![(label_key(&a.summary.label, a.summary.humps), 1.0)],
+                    weight: 5.0,
+                    steady: true,
+                    guard_valid: true,
+                    three_dimensional: a.summary.three_dimensional,
+                })
+                .collect(),
+            not_done: 0,
+        };
+        assert_eq!(cell.text().contains(" 3d"), mark, "{}", cell.text());
+    }
+}

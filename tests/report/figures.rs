@@ -408,6 +408,7 @@ fn cell_job(label: &str, weight: f64) -> CellJob {
         weight,
         steady: true,
         guard_valid: true,
+        three_dimensional: false,
     }
 }
 
