@@ -66,7 +66,7 @@ impl SyntheticBox {
     }
 }
 
-/// The thesis' L/W = 3 boxes at W/d = 15, 30 and 50 (H = W; N = 3181, 25 447, 117 810).
+/// The thesis' L/W = 3 boxes at W/d = 15, 30 and 50 (H = W; N = 2901, 23 205, 107 430).
 pub fn thesis_boxes() -> Vec<SyntheticBox> {
     [15.0, 30.0, 50.0]
         .map(|w| SyntheticBox {
@@ -77,7 +77,7 @@ pub fn thesis_boxes() -> Vec<SyntheticBox> {
         .to_vec()
 }
 
-/// The tall box of the thesis' Fig. 5.20: L/W = 3, W/d = 50, H/d = 150 (N = 353 429).
+/// The tall box of the thesis' Fig. 5.20: L/W = 3, W/d = 50, H/d = 150 (N = 322 289).
 pub fn tall_box() -> SyntheticBox {
     SyntheticBox {
         l_over_w: 3.0,
