@@ -55,15 +55,6 @@ impl SyntheticBox {
     pub fn particles(&self) -> usize {
         (PHI * self.geometry().volume() / (PI / 6.0)).round() as usize
     }
-
-    pub fn name(&self) -> String {
-        format!(
-            "L/W={} W/d={} H/d={}",
-            self.l_over_w,
-            self.w,
-            self.h_over_w * self.w
-        )
-    }
 }
 
 /// The thesis' L/W = 3 boxes at W/d = 15, 30 and 50 (H = W; N = 2901, 23 205, 107 430).
