@@ -621,44 +621,65 @@ impl PhaseDiagram {
         root: &DrawingArea<DB, Shift>,
         s: Scale,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        use plotters::style::text_anchor::{HPos, Pos, VPos};
         root.fill(&WHITE)?;
-        // layout in CSS pixels, drawn through the scale
-        let u = |v: i32| s.px(v);
+        let f = self.layout(s);
+        self.heading().draw(root, f.w, s)?;
+        root.draw(&Rectangle::new(
+            [
+                (s.px(LEFT), s.px(f.top)),
+                (s.px(LEFT + f.plot_w), s.px(f.top + f.plot_h)),
+            ],
+            BLACK.stroke_width(s.line(1.0)),
+        ))?;
+        self.draw_shares(root, &f)?;
+        self.draw_boundaries(root, &f)?;
+        self.draw_x_axis(root, &f)?;
+        self.draw_y_axis(root, &f)?;
+        self.draw_cells(root, &f)?;
+        self.draw_legend(root, &f)
+    }
+
+    /// The layout in CSS pixels: the plot's place and the axes (to scale in a refined diagram,
+    /// 40 px in from each end; one column or row per value otherwise).
+    fn layout(&self, s: Scale) -> Layout {
         let (w, h) = self.size();
         let top = self.top(w);
         let plot_w = (w as i32 - LEFT - LEGEND_WIDTH).max(40);
         let plot_h = (h as i32 - top - BOTTOM).max(40);
-        let nx = self.xs.len().max(1) as i32;
-        let ny = self.ys.len().max(1) as i32;
-        // a refined diagram draws numeric axes to scale (a margin of 40 px at each end)
         let scaled = |vals: &[ParamValue], len: i32| {
             numbers(vals)
                 .filter(|_| self.refined && vals.len() > 1)
                 .map(|v| Scaled::new(v, len))
         };
-        let sx = scaled(&self.xs, plot_w);
-        let sy = self.y_label.as_ref().and(scaled(&self.ys, plot_h));
-        let px = |xi: usize| match &sx {
-            Some(a) => LEFT + a.at(xi),
-            None => LEFT + (2 * xi as i32 + 1) * plot_w / (2 * nx),
-        };
-        let py = |yi: usize| match &sy {
-            Some(a) => top + plot_h - a.at(yi),
-            None => top + plot_h - (2 * yi as i32 + 1) * plot_h / (2 * ny),
-        };
-        let font = |size: f64| s.font(size);
-        let centred =
-            |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
-        let black = BLACK.stroke_width(s.line(1.0));
-        self.heading().draw(root, w, s)?;
-        root.draw(&Rectangle::new(
-            [(u(LEFT), u(top)), (u(LEFT + plot_w), u(top + plot_h))],
-            black,
-        ))?;
+        Layout {
+            s,
+            w,
+            top,
+            plot_w,
+            plot_h,
+            nx: self.xs.len().max(1) as i32,
+            ny: self.ys.len().max(1) as i32,
+            sx: scaled(&self.xs, plot_w),
+            sy: self.y_label.as_ref().and(scaled(&self.ys, plot_h)),
+        }
+    }
+
+    /// Each point's share in a refined diagram: the cell between the midpoints to its neighbours.
+    fn draw_shares<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        f: &Layout,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        let s = f.s;
+        let u = |v: i32| s.px(v);
+        let top = f.top;
+        let plot_w = f.plot_w;
+        let plot_h = f.plot_h;
+        let sx = &f.sx;
+        let sy = &f.sy;
         let light = RGBColor(215, 215, 215).stroke_width(s.line(1.0));
         // each point's share: the cell between the midpoints to its neighbours
-        if let Some(a) = &sx {
+        if let Some(a) = sx {
             for m in a.midpoints() {
                 root.draw(&PathElement::new(
                     vec![(u(LEFT + m), u(top)), (u(LEFT + m), u(top + plot_h))],
@@ -666,7 +687,7 @@ impl PhaseDiagram {
                 ))?;
             }
         }
-        if let Some(a) = &sy {
+        if let Some(a) = sy {
             for m in a.midpoints() {
                 let yy = top + plot_h - m;
                 root.draw(&PathElement::new(
@@ -675,11 +696,27 @@ impl PhaseDiagram {
                 ))?;
             }
         }
+        Ok(())
+    }
+
+    /// The estimated boundaries with their uncertainty (a band of +- half the last interval).
+    fn draw_boundaries<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        f: &Layout,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        let s = f.s;
+        let u = |v: i32| s.px(v);
+        let top = f.top;
+        let plot_h = f.plot_h;
+        let ny = f.ny;
+        let sx = &f.sx;
+        let sy = &f.sy;
         // the estimated boundaries with their uncertainty (a band of +- half the interval)
-        if let Some(a) = &sx {
+        if let Some(a) = sx {
             let band = RGBColor(31, 119, 180);
             for (yi, x, half) in self.boundaries() {
-                let (y0, y1) = match &sy {
+                let (y0, y1) = match sy {
                     Some(b) => b.share(yi),
                     None => (
                         (2 * yi as i32) * plot_h / (2 * ny),
@@ -704,6 +741,27 @@ impl PhaseDiagram {
                 ))?;
             }
         }
+        Ok(())
+    }
+
+    /// Ticks, values and the name of the x axis.
+    fn draw_x_axis<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        f: &Layout,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
+        let s = f.s;
+        let u = |v: i32| s.px(v);
+        let top = f.top;
+        let plot_w = f.plot_w;
+        let plot_h = f.plot_h;
+        let sx = &f.sx;
+        let px = |xi: usize| f.px(xi);
+        let font = |size: f64| s.font(size);
+        let centred =
+            |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
+        let black = BLACK.stroke_width(s.line(1.0));
         let mut last_tick = i32::MIN;
         for (xi, v) in self.xs.iter().enumerate() {
             // refined points crowd the axis: a tick label at least 60 px from the last
@@ -742,6 +800,23 @@ impl PhaseDiagram {
             (u(LEFT + plot_w / 2), u(top + plot_h + 34)),
             centred(15.0, VPos::Top),
         ))?;
+        Ok(())
+    }
+
+    /// Ticks, values and the name of the y axis, if there is one.
+    fn draw_y_axis<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        f: &Layout,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
+        let s = f.s;
+        let u = |v: i32| s.px(v);
+        let top = f.top;
+        let plot_h = f.plot_h;
+        let py = |yi: usize| f.py(yi);
+        let font = |size: f64| s.font(size);
+        let black = BLACK.stroke_width(s.line(1.0));
         if let Some(y_label) = &self.y_label {
             for (yi, v) in self.ys.iter().enumerate() {
                 root.draw(&PathElement::new(
@@ -761,6 +836,23 @@ impl PhaseDiagram {
                     .pos(Pos::new(HPos::Center, VPos::Top)),
             ))?;
         }
+        Ok(())
+    }
+
+    /// One marker per point with its humps, 3D mark, probability and flags; a grey dot where no job is done.
+    fn draw_cells<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        f: &Layout,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
+        let s = f.s;
+        let u = |v: i32| s.px(v);
+        let px = |xi: usize| f.px(xi);
+        let py = |yi: usize| f.py(yi);
+        let font = |size: f64| s.font(size);
+        let centred =
+            |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
         let red = RGBColor(214, 39, 40);
         for (&(xi, yi), cell) in &self.cells {
             let (x, y) = (u(px(xi)), u(py(yi)));
@@ -802,6 +894,24 @@ impl PhaseDiagram {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The legend: one line per marker and mark the diagram uses.
+    fn draw_legend<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        f: &Layout,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
+        let s = f.s;
+        let u = |v: i32| s.px(v);
+        let top = f.top;
+        let plot_w = f.plot_w;
+        let font = |size: f64| s.font(size);
+        let centred =
+            |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
+        let red = RGBColor(214, 39, 40);
         let lx = LEFT + plot_w + 20;
         for (i, entry) in self.legend().iter().enumerate() {
             let ly = top + 12 + 24 * i as i32;
@@ -857,6 +967,39 @@ impl PhaseDiagram {
 /// The values of an axis if all are numbers.
 fn numbers(vals: &[ParamValue]) -> Option<Vec<f64>> {
     vals.iter().map(ParamValue::as_f64).collect()
+}
+
+/// Where a phase diagram draws, in CSS pixels: the plot's place and its axes.
+struct Layout {
+    s: Scale,
+    w: u32,
+    top: i32,
+    plot_w: i32,
+    plot_h: i32,
+    /// columns and rows of an unscaled diagram
+    nx: i32,
+    ny: i32,
+    /// the axes drawn to scale (a refined diagram's numeric axes)
+    sx: Option<Scaled>,
+    sy: Option<Scaled>,
+}
+
+impl Layout {
+    /// The x pixel of the `xi`-th value.
+    fn px(&self, xi: usize) -> i32 {
+        match &self.sx {
+            Some(a) => LEFT + a.at(xi),
+            None => LEFT + (2 * xi as i32 + 1) * self.plot_w / (2 * self.nx),
+        }
+    }
+
+    /// The y pixel of the `yi`-th value.
+    fn py(&self, yi: usize) -> i32 {
+        match &self.sy {
+            Some(a) => self.top + self.plot_h - a.at(yi),
+            None => self.top + self.plot_h - (2 * yi as i32 + 1) * self.plot_h / (2 * self.ny),
+        }
+    }
 }
 
 /// A numeric axis drawn to scale over `len` pixels, 40 px in from each end.
