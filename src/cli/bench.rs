@@ -486,29 +486,6 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         args.collisions_per_particle > 0.0,
         "--collisions-per-particle must be > 0"
     );
-    let dem_options = || DemBenchOptions {
-        warmup: args.dem_warmup,
-        steps: args.dem_steps,
-        threads: args.threads,
-        cache: dem_cache(&args),
-        lammps_out: args.lammps_out.clone(),
-    };
-    if let Some(dir) = args.from_job.as_ref().filter(|d| bench_dem::is_dem_job(d)) {
-        let r = bench_dem::measure_from_job(dir, &dem_options())?;
-        if args.json {
-            outln!("{}", serde_json::to_string_pretty(&[r])?);
-        } else {
-            outln!(
-                "{}: N = {}: {:.4e} particle-steps/s on {} thread(s), {:.2} contacts per particle",
-                r.workload,
-                r.n,
-                r.particle_steps_per_s.unwrap_or(f64::NAN),
-                r.threads.unwrap_or(1),
-                r.contacts_per_particle.unwrap_or(f64::NAN)
-            );
-        }
-        return Ok(());
-    }
     if let Some(dir) = &args.from_job {
         return run_from_job(dir, &args);
     }
@@ -544,11 +521,45 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `--from-job`: the EDMD engine of a job's checkpoint, measured as the job would run.
+/// The DEM options of the command line.
+fn dem_options(args: &BenchArgs) -> DemBenchOptions {
+    DemBenchOptions {
+        warmup: args.dem_warmup,
+        steps: args.dem_steps,
+        threads: args.threads,
+        cache: dem_cache(args),
+        lammps_out: args.lammps_out.clone(),
+    }
+}
+
+/// `--from-job`: the engine of a job's checkpoint (EDMD or DEM), measured as the job would run.
 fn run_from_job(dir: &std::path::Path, args: &BenchArgs) -> anyhow::Result<()> {
-    let r = super::bench_job::measure(dir, args.search, args.skin, args.collisions_per_particle)?;
+    let saved = super::bench_job::saved_state(dir)?;
+    let dem = crate::engine::envelope::open(&saved.engine)
+        .ok()
+        .filter(|s| s.engine == "dem");
+    let dem_job = dem.is_some();
+    let r = match dem {
+        Some(sealed) => bench_dem::measure_from_job(dir, sealed, &dem_options(args))?,
+        None => super::bench_job::measure(
+            dir,
+            &saved,
+            args.search,
+            args.skin,
+            args.collisions_per_particle,
+        )?,
+    };
     if args.json {
         outln!("{}", serde_json::to_string_pretty(&[r])?);
+    } else if dem_job {
+        outln!(
+            "{}: N = {}: {:.4e} particle-steps/s on {} thread(s), {:.2} contacts per particle",
+            r.workload,
+            r.n,
+            r.particle_steps_per_s.unwrap_or(f64::NAN),
+            r.threads.unwrap_or(1),
+            r.contacts_per_particle.unwrap_or(f64::NAN)
+        );
     } else {
         outln!(
             "{}: N = {}, phi = {:.3}: {:.4e} collisions/s, {:.4e} events/s, {:.0} bytes/particle (engine)",
@@ -751,14 +762,7 @@ fn bench_dem(
         let r = if isolate {
             measure_isolated(w.name, args)?
         } else {
-            let options = DemBenchOptions {
-                warmup: args.dem_warmup,
-                steps: args.dem_steps,
-                threads: args.threads,
-                cache: dem_cache(args),
-                lammps_out: args.lammps_out.clone(),
-            };
-            bench_dem::measure(w, &options)?
+            bench_dem::measure(w, &dem_options(args))?
         };
         if !args.json {
             outln!(

@@ -133,23 +133,14 @@ pub fn measure(w: &DemWorkload, o: &DemBenchOptions) -> anyhow::Result<BenchResu
     timed(w.name, engine, &pool, baseline, o)
 }
 
-/// Whether the job in `dir` has a checkpoint written by the DEM engine.
-pub fn is_dem_job(dir: &Path) -> bool {
-    crate::sweep::store::read_checkpoint(dir)
-        .ok()
-        .flatten()
-        .is_some_and(|c| crate::engine::envelope::open(&c.engine).is_ok_and(|s| s.engine == "dem"))
-}
-
-/// Time `steps` steps of the DEM job in `dir` continued from its last checkpoint (e.g. a
+/// Time `steps` steps of the DEM job in `dir` continued from its checkpoint `sealed` (e.g. a
 /// channel at the paper's width, where the standard workloads' sizes say little); the
 /// `warmup` of the options is not used (the job's own run is the warm-up).
-pub fn measure_from_job(dir: &Path, o: &DemBenchOptions) -> anyhow::Result<BenchResult> {
-    let saved = crate::sweep::store::read_checkpoint(dir)?.ok_or_else(|| {
-        anyhow::anyhow!("{}: the job has no checkpoint to start from", dir.display())
-    })?;
-    let sealed = crate::engine::envelope::open(&saved.engine)
-        .with_context(|| format!("{}: checkpoint", dir.display()))?;
+pub fn measure_from_job(
+    dir: &Path,
+    sealed: crate::engine::envelope::Sealed<'_>,
+    o: &DemBenchOptions,
+) -> anyhow::Result<BenchResult> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(o.threads)
         .build()?;
@@ -157,13 +148,9 @@ pub fn measure_from_job(dir: &Path, o: &DemBenchOptions) -> anyhow::Result<Bench
     let engine = DemEngine::from_payload_of_version(sealed.version, sealed.payload)
         .map_err(anyhow::Error::msg)
         .with_context(|| format!("{}: not a DEM job's checkpoint", dir.display()))?;
-    let name = dir.file_name().map_or_else(
-        || dir.display().to_string(),
-        |f| f.to_string_lossy().into_owned(),
-    );
     let at = engine.steps() as f64 * engine.params().time_step;
     timed(
-        &format!("job {name} at t = {at:.1}"),
+        &super::bench_job::workload_name(dir, at),
         engine,
         &pool,
         baseline,

@@ -6,6 +6,7 @@
 use super::bench_result::{BenchResult, SearchChoice};
 use crate::engine::edmd::{EdmdEngine, NeighbourSearch};
 use crate::engine::{Engine, StopAt};
+use crate::sweep::store::JobCheckpoint;
 use anyhow::Context;
 use std::path::Path;
 use std::time::Instant;
@@ -14,17 +15,31 @@ use std::time::Instant;
 /// by then (it needs two; the first snapshot after them decides).
 const WARMUP: f64 = 2.5;
 
+/// The last checkpoint of the job in `dir`, which a measurement continues from.
+pub fn saved_state(dir: &Path) -> anyhow::Result<JobCheckpoint> {
+    crate::sweep::store::read_checkpoint(dir)?.ok_or_else(|| {
+        anyhow::anyhow!("{}: the job has no checkpoint to start from", dir.display())
+    })
+}
+
+/// The workload name of a measurement from the job in `dir` at simulated time `time`.
+pub fn workload_name(dir: &Path, time: f64) -> String {
+    let name = dir.file_name().map_or_else(
+        || dir.display().to_string(),
+        |f| f.to_string_lossy().into_owned(),
+    );
+    format!("job {name} at t = {time:.1}")
+}
+
 /// Time `measured_cpp` collisions per particle of the EDMD job in `dir`, continued from its
-/// checkpoint with the given search.
+/// checkpoint `saved` with the given search.
 pub fn measure(
     dir: &Path,
+    saved: &JobCheckpoint,
     search: SearchChoice,
     skin: f64,
     measured_cpp: f64,
 ) -> anyhow::Result<BenchResult> {
-    let saved = crate::sweep::store::read_checkpoint(dir)?.ok_or_else(|| {
-        anyhow::anyhow!("{}: the job has no checkpoint to start from", dir.display())
-    })?;
     // the engine's own decoding refuses another engine's checkpoint, saying whose it is
     let restored = match search {
         SearchChoice::Auto => EdmdEngine::restore(&saved.engine),
@@ -56,12 +71,8 @@ pub fn measure(
     let after = engine.progress();
     let collisions =
         (after.collisions_per_particle - before.collisions_per_particle) * n as f64 / 2.0;
-    let name = dir.file_name().map_or_else(
-        || dir.display().to_string(),
-        |f| f.to_string_lossy().into_owned(),
-    );
     Ok(BenchResult {
-        workload: format!("job {name} at t = {:.1}", before.time),
+        workload: workload_name(dir, before.time),
         n,
         phi: engine.params().volume_fraction(),
         collisions_per_s: collisions / secs,
