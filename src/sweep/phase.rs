@@ -13,6 +13,7 @@ use crate::figure::ticks;
 use crate::figure::{Scale, Sizing};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -670,28 +671,21 @@ impl PhaseDiagram {
         root: &DrawingArea<DB, Shift>,
         f: &Layout,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        let s = f.s;
-        let u = |v: i32| s.px(v);
-        let top = f.top;
-        let plot_w = f.plot_w;
-        let plot_h = f.plot_h;
-        let sx = &f.sx;
-        let sy = &f.sy;
-        let light = RGBColor(215, 215, 215).stroke_width(s.line(1.0));
-        // each point's share: the cell between the midpoints to its neighbours
-        if let Some(a) = sx {
+        let light = RGBColor(215, 215, 215).stroke_width(f.s.line(1.0));
+        if let Some(a) = &f.sx {
             for m in a.midpoints() {
+                let x = f.u(LEFT + m);
                 root.draw(&PathElement::new(
-                    vec![(u(LEFT + m), u(top)), (u(LEFT + m), u(top + plot_h))],
+                    vec![(x, f.u(f.top)), (x, f.u(f.bottom()))],
                     light,
                 ))?;
             }
         }
-        if let Some(a) = sy {
+        if let Some(a) = &f.sy {
             for m in a.midpoints() {
-                let yy = top + plot_h - m;
+                let y = f.u(f.bottom() - m);
                 root.draw(&PathElement::new(
-                    vec![(u(LEFT), u(yy)), (u(LEFT + plot_w), u(yy))],
+                    vec![(f.u(LEFT), y), (f.u(LEFT + f.plot_w), y)],
                     light,
                 ))?;
             }
@@ -705,41 +699,28 @@ impl PhaseDiagram {
         root: &DrawingArea<DB, Shift>,
         f: &Layout,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        let s = f.s;
-        let u = |v: i32| s.px(v);
-        let top = f.top;
-        let plot_h = f.plot_h;
-        let ny = f.ny;
-        let sx = &f.sx;
-        let sy = &f.sy;
-        // the estimated boundaries with their uncertainty (a band of +- half the interval)
-        if let Some(a) = sx {
-            let band = RGBColor(31, 119, 180);
-            for (yi, x, half) in self.boundaries() {
-                let (y0, y1) = match sy {
-                    Some(b) => b.share(yi),
-                    None => (
-                        (2 * yi as i32) * plot_h / (2 * ny),
-                        (2 * yi as i32 + 2) * plot_h / (2 * ny),
-                    ),
-                };
-                let (x0, x1) = (a.to(x - half), a.to(x + half));
-                root.draw(&Rectangle::new(
-                    [
-                        (u(LEFT + x0), u(top + plot_h - y1)),
-                        (u(LEFT + x1), u(top + plot_h - y0)),
-                    ],
-                    band.mix(0.15).filled(),
-                ))?;
-                let xm = a.to(x);
-                root.draw(&PathElement::new(
-                    vec![
-                        (u(LEFT + xm), u(top + plot_h - y1)),
-                        (u(LEFT + xm), u(top + plot_h - y0)),
-                    ],
-                    band.stroke_width(s.line(2.0)),
-                ))?;
-            }
+        let Some(a) = &f.sx else { return Ok(()) };
+        let band = RGBColor(31, 119, 180);
+        for (yi, x, half) in self.boundaries() {
+            // the row's share: to scale, or one row of an unscaled y axis
+            let (y0, y1) = match &f.sy {
+                Some(b) => b.share(yi),
+                None => (
+                    (2 * yi as i32) * f.plot_h / (2 * f.ny),
+                    (2 * yi as i32 + 2) * f.plot_h / (2 * f.ny),
+                ),
+            };
+            let (top, bottom) = (f.u(f.bottom() - y1), f.u(f.bottom() - y0));
+            let (x0, x1) = (a.to(x - half), a.to(x + half));
+            root.draw(&Rectangle::new(
+                [(f.u(LEFT + x0), top), (f.u(LEFT + x1), bottom)],
+                band.mix(0.15).filled(),
+            ))?;
+            let xm = f.u(LEFT + a.to(x));
+            root.draw(&PathElement::new(
+                vec![(xm, top), (xm, bottom)],
+                band.stroke_width(f.s.line(2.0)),
+            ))?;
         }
         Ok(())
     }
@@ -750,55 +731,38 @@ impl PhaseDiagram {
         root: &DrawingArea<DB, Shift>,
         f: &Layout,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        use plotters::style::text_anchor::{HPos, Pos, VPos};
-        let s = f.s;
-        let u = |v: i32| s.px(v);
-        let top = f.top;
-        let plot_w = f.plot_w;
-        let plot_h = f.plot_h;
-        let sx = &f.sx;
-        let px = |xi: usize| f.px(xi);
-        let font = |size: f64| s.font(size);
-        let centred =
-            |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
-        let black = BLACK.stroke_width(s.line(1.0));
-        let mut last_tick = i32::MIN;
-        for (xi, v) in self.xs.iter().enumerate() {
-            // refined points crowd the axis: a tick label at least 60 px from the last
-            if sx.is_some() {
-                let at = px(xi);
-                root.draw(&PathElement::new(
-                    vec![(u(at), u(top + plot_h)), (u(at), u(top + plot_h + 5))],
-                    black,
-                ))?;
-                if at - last_tick < 60 {
+        let bottom = f.bottom();
+        let mut last_label: Option<i32> = None;
+        // left to right, so that the spacing rule below compares neighbours on the axis
+        let mut ticks: Vec<(i32, &ParamValue)> = self
+            .xs
+            .iter()
+            .enumerate()
+            .map(|(xi, v)| (f.px(xi), v))
+            .collect();
+        ticks.sort_by_key(|&(at, _)| at);
+        for (at, v) in ticks {
+            root.draw(&PathElement::new(
+                vec![(f.u(at), f.u(bottom)), (f.u(at), f.u(bottom + 5))],
+                f.black(),
+            ))?;
+            // refined points crowd the axis: a value at least 60 px from the last one shown
+            if f.sx.is_some() {
+                if last_label.is_some_and(|last| at - last < 60) {
                     continue;
                 }
-                last_tick = at;
-                root.draw(&Text::new(
-                    fmt_value(v),
-                    (u(at), u(top + plot_h + 9)),
-                    centred(13.0, VPos::Top),
-                ))?;
-                continue;
+                last_label = Some(at);
             }
-            root.draw(&PathElement::new(
-                vec![
-                    (u(px(xi)), u(top + plot_h)),
-                    (u(px(xi)), u(top + plot_h + 5)),
-                ],
-                black,
-            ))?;
             root.draw(&Text::new(
                 fmt_value(v),
-                (u(px(xi)), u(top + plot_h + 9)),
-                centred(13.0, VPos::Top),
+                (f.u(at), f.u(bottom + 9)),
+                f.centred(13.0, VPos::Top),
             ))?;
         }
         root.draw(&Text::new(
             self.x_label.clone(),
-            (u(LEFT + plot_w / 2), u(top + plot_h + 34)),
-            centred(15.0, VPos::Top),
+            (f.u(LEFT + f.plot_w / 2), f.u(bottom + 34)),
+            f.centred(15.0, VPos::Top),
         ))?;
         Ok(())
     }
@@ -809,33 +773,27 @@ impl PhaseDiagram {
         root: &DrawingArea<DB, Shift>,
         f: &Layout,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        use plotters::style::text_anchor::{HPos, Pos, VPos};
-        let s = f.s;
-        let u = |v: i32| s.px(v);
-        let top = f.top;
-        let plot_h = f.plot_h;
-        let py = |yi: usize| f.py(yi);
-        let font = |size: f64| s.font(size);
-        let black = BLACK.stroke_width(s.line(1.0));
-        if let Some(y_label) = &self.y_label {
-            for (yi, v) in self.ys.iter().enumerate() {
-                root.draw(&PathElement::new(
-                    vec![(u(LEFT - 5), u(py(yi))), (u(LEFT), u(py(yi)))],
-                    black,
-                ))?;
-                root.draw(&Text::new(
-                    fmt_value(v),
-                    (u(LEFT - 8), u(py(yi))),
-                    TextStyle::from(font(13.0)).pos(Pos::new(HPos::Right, VPos::Center)),
-                ))?;
-            }
+        let Some(y_label) = &self.y_label else {
+            return Ok(());
+        };
+        for (yi, v) in self.ys.iter().enumerate() {
+            let at = f.u(f.py(yi));
+            root.draw(&PathElement::new(
+                vec![(f.u(LEFT - 5), at), (f.u(LEFT), at)],
+                f.black(),
+            ))?;
             root.draw(&Text::new(
-                y_label.clone(),
-                (u(12), u(top + plot_h / 2)),
-                TextStyle::from(font(15.0).transform(FontTransform::Rotate270))
-                    .pos(Pos::new(HPos::Center, VPos::Top)),
+                fmt_value(v),
+                (f.u(LEFT - 8), at),
+                TextStyle::from(f.s.font(13.0)).pos(Pos::new(HPos::Right, VPos::Center)),
             ))?;
         }
+        root.draw(&Text::new(
+            y_label.clone(),
+            (f.u(12), f.u(f.top + f.plot_h / 2)),
+            TextStyle::from(f.s.font(15.0).transform(FontTransform::Rotate270))
+                .pos(Pos::new(HPos::Center, VPos::Top)),
+        ))?;
         Ok(())
     }
 
@@ -845,53 +803,46 @@ impl PhaseDiagram {
         root: &DrawingArea<DB, Shift>,
         f: &Layout,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        use plotters::style::text_anchor::{HPos, Pos, VPos};
-        let s = f.s;
-        let u = |v: i32| s.px(v);
-        let px = |xi: usize| f.px(xi);
-        let py = |yi: usize| f.py(yi);
-        let font = |size: f64| s.font(size);
-        let centred =
-            |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
-        let red = RGBColor(214, 39, 40);
+        let u = |v: i32| f.u(v);
         for (&(xi, yi), cell) in &self.cells {
-            let (x, y) = (u(px(xi)), u(py(yi)));
-            match cell.verdict() {
-                Some(v) => {
-                    draw_marker(root, &v.label, (x, y), u(11))?;
-                    if v.humps > 0 {
-                        root.draw(&Text::new(
-                            format!("{}", v.humps),
-                            (x + u(14), y - u(20)),
-                            font(15.0),
-                        ))?;
-                    }
-                    if v.three_dimensional {
-                        root.draw(&Text::new(THREE_D_TEXT, (x + u(13), y + u(2)), font(12.0)))?;
-                    }
-                    if v.probability.is_finite() && v.label != "mixed" {
-                        root.draw(&Text::new(
-                            format!("{:.2}", v.probability),
-                            (x, y + u(15)),
-                            centred(13.0, VPos::Top),
-                        ))?;
-                    }
-                    if v.guard_flagged {
-                        root.draw(&Circle::new((x, y), u(16), red.stroke_width(s.line(2.0))))?;
-                    }
-                    if cell.disagrees() {
-                        // left of the marker, where neither humps nor probability go
-                        root.draw(&Text::new(
-                            DISAGREE,
-                            (x - u(16), y),
-                            TextStyle::from(font(DISAGREE_SIZE))
-                                .pos(Pos::new(HPos::Right, VPos::Center)),
-                        ))?;
-                    }
-                }
-                None => {
-                    root.draw(&Circle::new((x, y), u(4), GREY_DOT.filled()))?;
-                }
+            let (x, y) = (u(f.px(xi)), u(f.py(yi)));
+            let Some(v) = cell.verdict() else {
+                root.draw(&Circle::new((x, y), u(4), GREY_DOT.filled()))?;
+                continue;
+            };
+            draw_marker(root, &v.label, (x, y), u(11))?;
+            if v.humps > 0 {
+                root.draw(&Text::new(
+                    format!("{}", v.humps),
+                    (x + u(14), y - u(20)),
+                    f.s.font(15.0),
+                ))?;
+            }
+            if v.three_dimensional {
+                root.draw(&Text::new(
+                    THREE_D_TEXT,
+                    (x + u(13), y + u(2)),
+                    f.s.font(12.0),
+                ))?;
+            }
+            if v.probability.is_finite() && v.label != "mixed" {
+                root.draw(&Text::new(
+                    format!("{:.2}", v.probability),
+                    (x, y + u(15)),
+                    f.centred(13.0, VPos::Top),
+                ))?;
+            }
+            if v.guard_flagged {
+                root.draw(&Circle::new((x, y), u(16), f.red()))?;
+            }
+            if cell.disagrees() {
+                // left of the marker, where neither humps nor probability go
+                root.draw(&Text::new(
+                    DISAGREE,
+                    (x - u(16), y),
+                    TextStyle::from(f.s.font(DISAGREE_SIZE))
+                        .pos(Pos::new(HPos::Right, VPos::Center)),
+                ))?;
             }
         }
         Ok(())
@@ -903,61 +854,48 @@ impl PhaseDiagram {
         root: &DrawingArea<DB, Shift>,
         f: &Layout,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-        use plotters::style::text_anchor::{HPos, Pos, VPos};
-        let s = f.s;
-        let u = |v: i32| s.px(v);
-        let top = f.top;
-        let plot_w = f.plot_w;
-        let font = |size: f64| s.font(size);
-        let centred =
-            |size: f64, v: VPos| TextStyle::from(font(size)).pos(Pos::new(HPos::Center, v));
-        let red = RGBColor(214, 39, 40);
-        let lx = LEFT + plot_w + 20;
+        let lx = LEFT + f.plot_w + 20;
         for (i, entry) in self.legend().iter().enumerate() {
-            let ly = top + 12 + 24 * i as i32;
-            let at = (u(lx + 8), u(ly));
+            let ly = f.top + 12 + 24 * i as i32;
+            let at = (f.u(lx + 8), f.u(ly));
             let text = match entry {
                 Legend::Marker(label) => {
-                    draw_marker(root, label, at, u(8))?;
+                    draw_marker(root, label, at, f.u(8))?;
                     label.clone()
                 }
                 Legend::Humps => {
-                    root.draw(&Text::new("2", (at.0, at.1), centred(15.0, VPos::Center)))?;
+                    root.draw(&Text::new("2", at, f.centred(15.0, VPos::Center)))?;
                     "humps of the S-wave".into()
                 }
                 Legend::ThreeD => {
-                    root.draw(&Text::new(
-                        THREE_D_TEXT,
-                        (at.0, at.1),
-                        centred(12.0, VPos::Center),
-                    ))?;
+                    root.draw(&Text::new(THREE_D_TEXT, at, f.centred(12.0, VPos::Center)))?;
                     "varies along z (3D)".into()
                 }
                 Legend::Probability => {
-                    root.draw(&Text::new("0.9", (at.0, at.1), centred(12.0, VPos::Center)))?;
+                    root.draw(&Text::new("0.9", at, f.centred(12.0, VPos::Center)))?;
                     "share of snapshots with the label".into()
                 }
                 Legend::NotDone => {
-                    root.draw(&Circle::new(at, u(4), GREY_DOT.filled()))?;
+                    root.draw(&Circle::new(at, f.u(4), GREY_DOT.filled()))?;
                     "no job done yet".into()
                 }
                 Legend::Guard => {
-                    root.draw(&Circle::new(at, u(9), red.stroke_width(s.line(2.0))))?;
+                    root.draw(&Circle::new(at, f.u(9), f.red()))?;
                     "collapse guard beyond validity".into()
                 }
                 Legend::Disagree => {
                     root.draw(&Text::new(
                         DISAGREE,
                         at,
-                        centred(DISAGREE_SIZE, VPos::Center),
+                        f.centred(DISAGREE_SIZE, VPos::Center),
                     ))?;
                     DISAGREE_LEGEND.into()
                 }
             };
             root.draw(&Text::new(
                 text,
-                (u(lx + 24), u(ly)),
-                TextStyle::from(font(12.0)).pos(Pos::new(HPos::Left, VPos::Center)),
+                (f.u(lx + 24), f.u(ly)),
+                TextStyle::from(f.s.font(12.0)).pos(Pos::new(HPos::Left, VPos::Center)),
             ))?;
         }
         Ok(())
@@ -985,6 +923,31 @@ struct Layout {
 }
 
 impl Layout {
+    /// CSS pixels to the picture's pixels.
+    fn u(&self, css: i32) -> i32 {
+        self.s.px(css)
+    }
+
+    /// The plot's lower edge, in CSS pixels.
+    fn bottom(&self) -> i32 {
+        self.top + self.plot_h
+    }
+
+    /// Text of `size` centred horizontally, placed vertically by `v`.
+    fn centred(&self, size: f64, v: VPos) -> TextStyle<'static> {
+        TextStyle::from(self.s.font(size)).pos(Pos::new(HPos::Center, v))
+    }
+
+    /// The axes' ticks: black, one CSS pixel wide.
+    fn black(&self) -> ShapeStyle {
+        BLACK.stroke_width(self.s.line(1.0))
+    }
+
+    /// The collapse guard's ring: red, two CSS pixels wide.
+    fn red(&self) -> ShapeStyle {
+        RGBColor(214, 39, 40).stroke_width(self.s.line(2.0))
+    }
+
     /// The x pixel of the `xi`-th value.
     fn px(&self, xi: usize) -> i32 {
         match &self.sx {
@@ -1388,6 +1351,22 @@ mod tests {
         assert_eq!((a.at(0), a.at(2), a.at(1), a.at(3)), (40, 85, 220, 400));
         assert_eq!(a.share(2), (63, 153));
         diagram.png().expect("a refined diagram draws");
+        // the x axis names its values, those closer than 60 px to the last one shown left out
+        let svg = std::env::temp_dir().join(format!("phase-refined-{}.svg", std::process::id()));
+        diagram.write_svg(&svg).unwrap();
+        let text = std::fs::read_to_string(&svg).unwrap();
+        let _ = std::fs::remove_file(&svg);
+        let texts: Vec<&str> = text
+            .split("</text>")
+            .filter_map(|t| t.rsplit('>').next())
+            .map(str::trim)
+            .collect();
+        for value in ["1", "1.5", "2", "3"] {
+            assert!(
+                texts.contains(&value),
+                "x value {value} not drawn: {texts:?}"
+            );
+        }
     }
 
     #[test]
