@@ -2,7 +2,7 @@
 
 use granflow::sweep::{Sweep, store};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 pub const BIN: &str = env!("CARGO_BIN_EXE_granflow");
@@ -33,23 +33,46 @@ pub fn granflow_ok(args: &[&str]) -> String {
 }
 
 /// Start `granflow <args>` (a run into `results`) again and again, killing it with SIGKILL
-/// after a growing delay, until every job of `sweep` has its result; the number of kills.
-///
-/// The delay grows by 97 ms a kill for the first 20 kills (kills at many different moments),
-/// then doubles, so the loop ends once one run outlasts it however loaded the machine is; a
-/// run that ends by itself must have finished every job. `hang` is a hang guard, not a speed
-/// limit: the test fails only when a run given `hang` uninterrupted has still not finished.
+/// after a growing delay, until a run ends by itself, and check that every job of `sweep` then
+/// has its result; the number of kills (see [`kill_until_exit`]: first delay 150 ms, growing
+/// by 97 ms). `hang` is a hang guard, not a speed limit.
 pub fn kill_until_done(sweep: &Sweep, results: &Path, args: &[String], hang: Duration) -> u64 {
+    let (kills, status) = kill_until_exit(
+        args,
+        Duration::from_millis(150),
+        Duration::from_millis(97),
+        hang,
+    );
+    assert!(status.success(), "the last run failed: {status}");
     let dirs = sweep.results_dir(results);
-    let all_done = || {
-        sweep
-            .plan
-            .iter()
-            .all(|j| dirs.job_dir(&j.id).join(store::RESULT_FILE).exists())
-    };
+    let missing: Vec<&str> = sweep
+        .plan
+        .iter()
+        .filter(|j| !dirs.job_dir(&j.id).join(store::RESULT_FILE).exists())
+        .map(|j| j.id.0.as_str())
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "a run ended by itself ({status}) before every job was done: {missing:?}"
+    );
+    kills
+}
+
+/// Start `granflow <args>` again and again, killing it with SIGKILL after a delay that starts
+/// at `first` and grows by `step` a kill for the first 20 kills (kills at many different
+/// moments), then doubles, so the loop ends once one run outlasts it however loaded the
+/// machine is; the number of kills and the status of the run that ended by itself. `hang` is a
+/// hang guard, not a speed limit: the test fails only when a run given `hang` uninterrupted
+/// has still not finished.
+pub fn kill_until_exit(
+    args: &[impl AsRef<std::ffi::OsStr>],
+    first: Duration,
+    step: Duration,
+    hang: Duration,
+) -> (u64, ExitStatus) {
     let mut kills = 0u64;
-    let mut delay = Duration::from_millis(150);
-    while !all_done() {
+    let mut delay = first;
+    loop {
         assert!(
             delay <= 2 * hang,
             "a run given {:?} uninterrupted did not finish (after {kills} kills): a hang?",
@@ -65,22 +88,12 @@ pub fn kill_until_done(sweep: &Sweep, results: &Path, args: &[String], hang: Dur
         while started.elapsed() < delay && child.try_wait().unwrap().is_none() {
             std::thread::sleep(Duration::from_millis(20));
         }
-        match child.try_wait().unwrap() {
-            Some(status) => assert!(
-                all_done(),
-                "a run ended by itself ({status}) before every job was done"
-            ),
-            None => {
-                child.kill().unwrap();
-                child.wait().unwrap();
-                kills += 1;
-            }
+        if let Some(status) = child.try_wait().unwrap() {
+            return (kills, status);
         }
-        delay = if kills < 20 {
-            Duration::from_millis(150 + 97 * kills)
-        } else {
-            delay * 2
-        };
+        child.kill().unwrap();
+        child.wait().unwrap();
+        kills += 1;
+        delay = if kills < 20 { delay + step } else { delay * 2 };
     }
-    kills
 }

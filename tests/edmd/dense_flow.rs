@@ -10,10 +10,10 @@ use granflow::analysis::{Analysis, Record};
 use granflow::sweep::execute::{self, JobEnd};
 use granflow::sweep::{PlannedJob, load_sweep, store};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
-use crate::common::BIN;
+use crate::common::{BIN, kill_until_exit};
 
 use crate::common::scratch;
 
@@ -180,24 +180,14 @@ fn run_until_steady_survives_kill_9() {
 
     let results = dir.join("results");
     let job_dir = results.join("small/jobs").join(&id.0);
-    let mut kills = 0;
-    let started = Instant::now();
-    // kill at spread-out moments until the job is done (each rerun resumes)
-    while !job_dir.join(store::RESULT_FILE).exists() {
-        let mut child = Command::new(BIN)
-            .args(args(&results))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(Duration::from_millis(40 + 37 * kills));
-        if child.try_wait().unwrap().is_none() {
-            child.kill().unwrap();
-            kills += 1;
-        }
-        child.wait().unwrap();
-        assert!(started.elapsed() < Duration::from_secs(120), "no progress");
-    }
+    // kill at spread-out moments until a run ends by itself (each rerun resumes)
+    let (kills, status) = kill_until_exit(
+        &args(&results),
+        Duration::from_millis(40),
+        Duration::from_millis(37),
+        Duration::from_secs(60),
+    );
+    assert!(status.success(), "{status}");
     assert!(
         kills >= 2,
         "only {kills} kills: the job is too short to test resumption"

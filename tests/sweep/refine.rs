@@ -3,12 +3,12 @@
 //! sees refined points, and a run killed with SIGKILL at many moments that ends with the same
 //! points and results as an uninterrupted one, no job computed twice.
 
-use crate::common::{BIN, scratch};
+use crate::common::{BIN, kill_until_exit, scratch};
 use granflow::sweep::{open_results, store};
 use polars::prelude::*;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 /// Two Knudsen numbers, refined on the flow rate with a tolerance every pair exceeds, 2
 /// levels: round 1 adds Kn = 1.25, round 2 adds 0.875 and 1.625 (DSMC, about 0.5 s a job).
@@ -127,42 +127,15 @@ fn a_refined_run_killed_at_any_moment_ends_with_the_same_points_and_results() {
         "--threads",
         "1",
     ];
-    let mut kills = 0u64;
     // short first delays: the whole run takes ~0.3 s on a quiet machine, and the test needs
     // kills inside it (a delay of 150 ms growing by 97 ms gave only 2 there)
-    let mut delay = Duration::from_millis(30);
-    loop {
-        assert!(
-            delay < Duration::from_secs(600),
-            "a run did not finish: a hang?"
-        );
-        let mut child = Command::new(BIN)
-            .args(args)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let started = Instant::now();
-        while started.elapsed() < delay && child.try_wait().unwrap().is_none() {
-            std::thread::sleep(Duration::from_millis(20));
-        }
-        match child.try_wait().unwrap() {
-            Some(status) => {
-                assert!(status.success(), "{status}");
-                break;
-            }
-            None => {
-                child.kill().unwrap();
-                child.wait().unwrap();
-                kills += 1;
-            }
-        }
-        delay += Duration::from_millis(if kills < 20 {
-            31
-        } else {
-            delay.as_millis() as u64
-        });
-    }
+    let (kills, status) = kill_until_exit(
+        &args,
+        Duration::from_millis(30),
+        Duration::from_millis(31),
+        Duration::from_secs(300),
+    );
+    assert!(status.success(), "{status}");
     assert!(kills >= 3, "only {kills} kills");
     let got = rows(&results.join("refined"));
     assert_eq!(got, want, "the same points with the same ids");
