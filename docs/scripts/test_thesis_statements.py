@@ -520,6 +520,16 @@ class Readings(unittest.TestCase):
             self.assertEqual(row.verdict(), "not measured: no job of these is a result")
             self.assertIn("not results", row.cells()[4])
 
+    def test_without_results_every_row_is_not_measured(self):
+        for chapter in (chapter3, chapter41):
+            with tempfile.TemporaryDirectory() as d:
+                ron = Path(d) / "s.ron"
+                ron.write_text("(run: (statistics: (cells: (5, 1))))")
+                sweep = Sweep.planned(ron)
+                self.assertEqual(sweep.cells, (5, 1))
+                words = {statement(sweep).word() for statement in chapter.STATEMENTS}
+                self.assertEqual(words, {"not measured"})
+
     def test_the_averaging_names_the_cells(self):
         with tempfile.TemporaryDirectory() as d:
             self.assertIn("5 x 1 cells", thesis_world(chapter41).write(d).fluctuations())

@@ -5,6 +5,7 @@
     python3 docs/scripts/thesis_statements.py results/thesis-ch4-dilute --dilute
     python3 docs/scripts/thesis_statements.py results/thesis-ch4-dense --dense
     python3 docs/scripts/thesis_statements.py results/thesis-ch4-dense --grid
+    python3 docs/scripts/thesis_statements.py sweeps/thesis-ch3.ron --readings [--dilute]
 
 Reads the sweep's Parquet tables with DuckDB (pip install duckdb) and prints, per statement of
 the thesis' chapter 3 (default) or 4.1 (`--dilute`), a Markdown row: section, the thesis'
@@ -12,7 +13,8 @@ words, the literal reading as a test on the tables, the averaging it uses, what 
 measured and the verdict (yes, partly, no, not measured), then the summary line (rows, yes,
 partly, no, not measured). The readings and their tolerances are in `statements/`
 (`readings.py` states the tolerances); only jobs that are results (statistics taken, steady,
-collapse guard valid) count. `--dense` prints the chapter 4.2 row, `--grid` the dense sweep's
+collapse guard valid) count. `--readings` prints the rows' readings for a sweep file, without
+results (the skeleton of docs/statistics.md's table). `--dense` prints the chapter 4.2 row, `--grid` the dense sweep's
 grid. A sweep still running is read as far as it got.
 """
 import sys
@@ -32,10 +34,14 @@ def table(results, name):
     return f"read_parquet('{path}')"
 
 
-def statements(results, chapter):
-    """The rows of a chapter's statements (`chapter3` or `chapter41`) on a results directory."""
-    table(results, "jobs")
-    sweep = Sweep(results)
+def statements(results, chapter, readings=False):
+    """The rows of a chapter's statements (`chapter3` or `chapter41`) on a results directory
+    (or, with `readings`, on a sweep file without results)."""
+    if readings:
+        sweep = Sweep.planned(results)
+    else:
+        table(results, "jobs")
+        sweep = Sweep(results)
     return [statement(sweep) for statement in chapter.STATEMENTS]
 
 
@@ -114,11 +120,15 @@ def main():
         for statement, measured, agrees in chapter4_dense(sys.argv[1]):
             print(f"| {statement} | {measured} | {agrees} |")
         return
-    rows = statements(sys.argv[1], chapter41 if "--dilute" in sys.argv else chapter3)
+    readings = "--readings" in sys.argv
+    rows = statements(sys.argv[1], chapter41 if "--dilute" in sys.argv else chapter3, readings)
     print("| section | thesis | literal reading | averaging | measured | agrees |")
     print("|---|---|---|---|---|---|")
     for row in rows:
-        print("| " + " | ".join(cell.replace("|", "/") for cell in row.cells()) + " |")
+        cells = list(row.cells())
+        if readings:
+            cells[4:] = ["to be measured", "to be measured" if not row.missing else row.missing]
+        print("| " + " | ".join(cell.replace("|", "/") for cell in cells) + " |")
     print()
     print(summary(rows))
 

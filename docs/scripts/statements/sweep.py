@@ -78,6 +78,12 @@ class Job:
             "free_paths", self.id, l_bin=None))
 
 
+def cells_of(ron):
+    """The `cells: (n_x, n_z)` of a sweep's RON text ((1, 1) when not given)."""
+    found = re.search(r"cells\s*:\s*[\[(]\s*(\d+)\s*,\s*(\d+)", ron)
+    return (int(found.group(1)), int(found.group(2))) if found else (1, 1)
+
+
 class Sweep:
     """The tables of one results directory."""
 
@@ -88,6 +94,13 @@ class Sweep:
         self.jobs = [Job(self, r) for r in self.table("jobs")
                      if r.get("restitution") is not None]
         self.cells = self._cells()
+
+    @classmethod
+    def planned(cls, sweep_file):
+        """A sweep without results, with the cells of its sweep file (the readings alone)."""
+        sweep = cls(Path(sweep_file).parent / "no results")
+        sweep.cells = cells_of(Path(sweep_file).read_text())
+        return sweep
 
     def table(self, name):
         """Every row of a table as dicts ([] when the file is missing)."""
@@ -148,8 +161,7 @@ class Sweep:
         meta = self.con.execute(
             f"SELECT decode(value) FROM parquet_kv_metadata('{path}') "
             "WHERE decode(key) = 'granflow.sweep_ron'").fetchone()
-        found = re.search(r"cells\s*:\s*[\[(]\s*(\d+)\s*,\s*(\d+)", meta[0] if meta else "")
-        return (int(found.group(1)), int(found.group(2))) if found else (1, 1)
+        return cells_of(meta[0] if meta else "")
 
     def fluctuations(self):
         """How the fluctuations C, Omega of the statistics are taken."""
