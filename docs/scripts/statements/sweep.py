@@ -94,12 +94,14 @@ class Sweep:
         self.jobs = [Job(self, r) for r in self.table("jobs")
                      if r.get("restitution") is not None]
         self.cells = self._cells()
+        self.without_results = False
 
     @classmethod
     def planned(cls, sweep_file):
         """A sweep without results, with the cells of its sweep file (the readings alone)."""
         sweep = cls(Path(sweep_file).parent / "no results")
         sweep.cells = cells_of(Path(sweep_file).read_text())
+        sweep.without_results = True
         return sweep
 
     def table(self, name):
@@ -115,7 +117,8 @@ class Sweep:
         return self._tables[name]
 
     def has(self, name):
-        return bool(self.table(name))
+        """Whether the table exists (a planned sweep has every table, empty)."""
+        return self.without_results or bool(self.table(name))
 
     def select(self, name, job_id, **where):
         return [r for r in self.by_job(name).get(job_id, [])
