@@ -62,6 +62,14 @@ def compare_betas(sweep, r, value, beta, other, above=True):
     return r
 
 
+def value_trend(sweep, r, beta, value, rises, label):
+    """A per-job value (value(job) -> number) rises (or falls) with dissipation at one beta."""
+    pts = [(j.e, value(j), None) for j in r.results(sweep, beta=beta)]
+    r.show(f"{label} " + sequence(pts))
+    r.check(trend(pts, rises), by_beta(beta))
+    return r
+
+
 def column_trend(sweep, r, column, betas, rises, magnitude=False):
     for beta in betas:
         pts = [(j.e, abs(j[column]) if magnitude else j[column], None)

@@ -10,7 +10,7 @@ from .readings import (
 )
 from .cases import (
     BETAS, PROFILES, WALLS, by_beta, centre_excess, column_trend, compare_betas, dense_centre,
-    minima_at_centre,
+    minima_at_centre, value_trend,
 )
 from .chapter3_vdf import (
     bins_alike_smooth, cx_asymmetric_rough_every_e, cx_negative_rough, cx_negative_smooth,
@@ -74,10 +74,7 @@ def phi_shifts_to_centre(sweep):
     r = Row("3.1", "\"as the dissipation is increased we see that the particles shift towards the "
             "center\" (beta = -0.99)", "phi(centre) / mean phi rises at every step from e = 0.99 "
             "to 0.8", PROFILES)
-    pts = [(j.e, centre_excess(j), None) for j in r.results(sweep, beta=-0.99)]
-    r.show("phi(centre) / mean: " + sequence(pts))
-    r.check(trend(pts, True), "beta = -0.99")
-    return r
+    return value_trend(sweep, r, -0.99, centre_excess, True, "phi(centre) / mean:")
 
 
 def velocity_difference(j):
@@ -89,10 +86,7 @@ def ux_gradient_rises(sweep):
     r = Row("3.1", "\"as the dissipation is increased to e=0.8 the velocity gradient across the "
             "channel width increases\" (beta = -0.99)", "U_x(centre) - U_x(wall bins) rises at "
             "every step from e = 0.99 to 0.8", PROFILES)
-    pts = [(j.e, velocity_difference(j), None) for j in r.results(sweep, beta=-0.99)]
-    r.show("U_x(centre) - U_x(wall): " + sequence(pts))
-    r.check(trend(pts, True), "beta = -0.99")
-    return r
+    return value_trend(sweep, r, -0.99, velocity_difference, True, "U_x(centre) - U_x(wall):")
 
 
 def omega_signs(sweep):

@@ -9,7 +9,7 @@ from .readings import (
 )
 from .cases import (
     DISSIPATIVE, PROFILES, WALLS, centre_excess, column_trend, compare_betas, dense_centre,
-    minima_at_centre,
+    minima_at_centre, value_trend,
 )
 from .chapter41_vdf import (
     c_like_smooth_perfect, c_to_gaussian_smooth, cx_asymmetric_rough, cx_deviates_plug_smooth,
@@ -49,10 +49,7 @@ def centre_denser_smooth(sweep):
     r = Row("4.1", "\"as the dissipation is increased the particles shift towards the center\" "
             "(beta = -0.99)", "phi(centre) / mean phi rises at every step from e = 0.99 to 0.7",
             PROFILES)
-    pts = [(j.e, centre_excess(j), None) for j in r.results(sweep, beta=-0.99)]
-    r.show("phi(centre) / mean " + sequence(pts))
-    r.check(trend(pts, True), "beta = -0.99")
-    return r
+    return value_trend(sweep, r, -0.99, centre_excess, True, "phi(centre) / mean")
 
 
 def plug_elastic_smooth(sweep):
