@@ -4,7 +4,7 @@ moment row (`Job.moment`) against the tolerances of `readings`.
 """
 from .readings import (
     KURT_TOL, NULL, SIG, SKEW_TOL, centre_value, fmt, maximum_at_centre, mean, minimum_at_centre,
-    pm, sequence, trend,
+    pm, safe, sequence, trend,
 )
 from .sweep import CENTRE, SHEAR, WALL, bin_name
 
@@ -56,7 +56,9 @@ def compare_betas(sweep, r, value, beta, other, above=True):
     one = {j.e: j for j in r.results(sweep, beta=beta)}
     two = {j.e: j for j in r.results(sweep, beta=other)}
     for e in sorted(set(one) & set(two), reverse=True):
-        a, b = value(one[e]), value(two[e])
+        a, b = safe(value, one[e]), safe(value, two[e])
+        if a is None or b is None:
+            continue
         r.show(f"e = {e:g}: {fmt(a)} against {fmt(b)}")
         r.check(a > b if above else a < b, f"e = {e:g}")
     return r
@@ -64,7 +66,7 @@ def compare_betas(sweep, r, value, beta, other, above=True):
 
 def value_trend(sweep, r, beta, value, rises, label):
     """A per-job value (value(job) -> number) rises (or falls) with dissipation at one beta."""
-    pts = [(j.e, value(j), None) for j in r.results(sweep, beta=beta)]
+    pts = [(j.e, safe(value, j), None) for j in r.results(sweep, beta=beta)]
     r.show(f"{label} " + sequence(pts))
     r.check(trend(pts, rises), by_beta(beta))
     return r

@@ -6,7 +6,8 @@ and returns its `Row`; the tolerances are those of `readings`. `STATEMENTS` list
 import math
 
 from .readings import (
-    Row, centre_value, fmt, line_fit_r2, mean, non_monotonic, pearson, sequence, trend, wall_value,
+    Row, centre_value, fmt, holds, line_fit_r2, mean, non_monotonic, pearson, sequence, trend,
+    wall_value,
 )
 from .cases import (
     BETAS, PROFILES, WALLS, by_beta, centre_excess, column_trend, compare_betas, dense_centre,
@@ -64,6 +65,8 @@ def phi_centre_peak(sweep):
             "mean at e = 0.8", PROFILES)
     for j in r.results(sweep, beta=-0.99, e=0.8):
         phi = j.profile("phi")
+        if not phi:
+            continue
         r.show(f"centre {fmt(centre_value(phi))}, mean {fmt(mean(v for _, v in phi))}, largest "
                f"at y / W = {max(phi, key=lambda p: p[1])[0]:.2f}")
         r.check(dense_centre(phi), "e = 0.8")
@@ -140,7 +143,8 @@ def phi_rough_elastic(sweep):
             f" (beta = -0.99: {fmt(centre_excess(s))})" for s in smooth))
         r.check(dense_centre(j.profile("phi")), "centre peak")
         for s in smooth:
-            r.check(centre_excess(j) > centre_excess(s), "higher than beta = -0.99")
+            r.check(holds(lambda a, b: a > b, centre_excess(j), centre_excess(s)),
+                    "higher than beta = -0.99")
     return r
 
 
@@ -230,6 +234,8 @@ def free_path_tails(sweep):
         return r
     for j in r.results(sweep):
         lam, pl = j["mean_free_path"], j.free_paths()
+        if not lam:
+            continue
         a = decay_length([(l, p) for l, p in pl if 2 * lam <= l <= 4 * lam])
         b = decay_length([(l, p) for l, p in pl if 4 * lam <= l <= 8 * lam])
         if a and b:
@@ -265,8 +271,9 @@ def slip_largest_rough(sweep):
     hi = {j.e: j for j in r.results(sweep, beta=0.0)}
     others = [{j.e: j for j in r.results(sweep, beta=b)} for b in (-0.99, 0.99)]
     for e in sorted(hi, reverse=True):
-        rest = [o[e]["slip_velocity"] for o in others if e in o]
-        if rest:
+        rest = [o[e]["slip_velocity"] for o in others
+                if e in o and o[e]["slip_velocity"] is not None]
+        if rest and hi[e]["slip_velocity"] is not None:
             r.show(f"e = {e:g}: {fmt(hi[e]['slip_velocity'])} against " +
                    ", ".join(fmt(v) for v in rest))
             r.check(hi[e]["slip_velocity"] > max(rest), f"e = {e:g}")
@@ -291,7 +298,8 @@ def wall_temperature_flat_rough(sweep):
             "that of beta = -0.99 and of 0.99", WALLS)
     spread = {}
     for beta in BETAS:
-        values = [j["wall_temperature"] for j in r.results(sweep, beta=beta)]
+        values = [j["wall_temperature"] for j in r.results(sweep, beta=beta)
+                  if j["wall_temperature"] is not None]
         if len(values) >= 2:
             spread[beta] = relative_range(values)
             r.show(f"{by_beta(beta)}: {100 * spread[beta]:.1f} %")
@@ -316,7 +324,8 @@ def theta_wall_like_slip(sweep):
             "dependence on e like the rotational velocity\"", "theta_w and slip_rotational change "
             "with e the same way: their correlation over e is positive, each beta", WALLS)
     for beta in BETAS:
-        jobs = r.results(sweep, beta=beta)
+        jobs = [j for j in r.results(sweep, beta=beta)
+                if j["wall_rotational_temperature"] is not None and j["slip_rotational"] is not None]
         if len(jobs) >= 3:
             c = pearson([j["wall_rotational_temperature"] for j in jobs],
                         [j["slip_rotational"] for j in jobs])

@@ -1,7 +1,7 @@
 """The thesis' statements of its sections 3.3 (g(r)) and 3.4 (Lambda) at phi = 0.01, one
 function each.
 """
-from .readings import SIG, Row, fmt, mean, merged, non_monotonic, peaks, pm, sequence, trend
+from .readings import Row, SIG, fmt, mean, merged, non_monotonic, peaks, pm, sequence, trend
 from .cases import (
     BETAS, THREE, by_beta, compare_betas, distance_points, lambda_centre, profile_mean,
 )
@@ -111,13 +111,13 @@ def lambda_mean_non_monotonic_smooth(sweep):
 
 def lambda_walls_vs_centre(sweep, r, beta, centre_lower):
     for j in r.results(sweep, beta=beta):
-        lam = j.lambdas()
-        if len(lam) < 3:
+        c = dict((s, (v, e)) for s, v, e in j.lambdas())
+        last = j.last_slab()
+        if any(s not in c for s in (WALL, CENTRE, last)):
             continue
-        c = dict((s, (v, e)) for s, v, e in lam)
         (vc, ec) = c[CENTRE]
-        walls = [c[lam[0][0]], c[lam[-1][0]]]
-        for (vw, ew), side in zip(walls, ("bin 1", f"bin {lam[-1][0] + 1}")):
+        walls = [c[WALL], c[last]]
+        for (vw, ew), side in zip(walls, ("bin 1", f"bin {last + 1}")):
             diff = vw - vc if centre_lower else vc - vw
             r.check(diff > SIG * (ec ** 2 + ew ** 2) ** 0.5, f"e = {j.e:g} {side}")
         r.show(f"e = {j.e:g}: centre {pm(vc, ec, 4)}, walls {pm(walls[0][0], walls[0][1], 4)}, "

@@ -1,7 +1,7 @@
 """The thesis' statements of its sections 4.1.2 (g(r) in bin 13), 4.1.3 (Lambda) and 4.1.4
 (velocity correlations) at phi = 0.1, and the conclusion's (ch. 6) on Lambda.
 """
-from .readings import NULL, SIG, Row, fmt, mean, merged, near_contact, peaks, pm, sequence, trend
+from .readings import NULL, Row, SIG, fmt, mean, merged, near_contact, peaks, pm, sequence, trend
 from .cases import BETAS, THREE, by_beta, lambda_centre, profile_mean, symmetric
 from .sweep import CENTRE, SHEAR, WALL, bin_name
 

@@ -2,11 +2,11 @@
 the conclusion's (ch. 6) sentence on them, one function each.
 """
 from .readings import (
-    KURT_TOL, LOW_TOL, NULL, SIG, SKEW_TOL, Row, fmt, low_velocity_deviation, mean, peaks,
+    KURT_TOL, LOW_TOL, NULL, Row, SIG, SKEW_TOL, fmt, low_velocity_deviation, mean, peaks,
     sequence, trend,
 )
 from .cases import (
-    DISSIPATIVE, BETAS, SIX, THREE, by_beta, excess, gaussian, kurt, moment_cases,
+    BETAS, DISSIPATIVE, SIX, THREE, by_beta, excess, gaussian, kurt, moment_cases,
     moments_averaging, negative_skew, skew, skewed, super_gaussian, symmetric, tails_deviate,
 )
 from .sweep import CENTRE, SHEAR, WALL, bin_name

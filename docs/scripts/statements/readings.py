@@ -38,9 +38,27 @@ def pm(v, err, digits=3):
     return fmt(v, digits) if err is None else f"{fmt(v, digits)} +- {fmt(err, 2)}"
 
 
+def known(points):
+    """The (e, value, error) points whose value the tables hold (null: too few samples)."""
+    return [p for p in points if p[1] is not None]
+
+
+def safe(fn, *args):
+    """fn(*args), or None where the tables lack a value it needs (a null, an empty bin)."""
+    try:
+        return fn(*args)
+    except (TypeError, ValueError, ZeroDivisionError, KeyError, IndexError):
+        return None
+
+
+def holds(test, *values):
+    """test(*values), or None (the case cannot be read) when a value is missing."""
+    return None if any(v is None for v in values) else test(*values)
+
+
 def sequence(points, digits=3):
     """'e = 0.99: v, 0.95: v' over (e, value, error) points, most elastic first."""
-    pts = sorted(points, key=lambda p: -p[0])
+    pts = sorted(known(points), key=lambda p: -p[0])
     return "e = " + ", ".join(f"{e:g}: {pm(v, err, digits)}" for e, v, err in pts)
 
 
@@ -55,8 +73,9 @@ def _against(a, b, err_a, err_b, rising):
 def trend(points, rises_as_e_falls):
     """A quantity rises (or falls) with dissipation, i.e. as e decreases: every step from
     one e to the next lower one goes the stated way (or against it within SIG errors where
-    errors exist), and the whole change does, beyond SIG errors. points: [(e, v, err)]."""
-    pts = sorted(points, key=lambda p: -p[0])
+    errors exist), and the whole change does, beyond SIG errors. points: [(e, v, err)];
+    points without a value are left out."""
+    pts = sorted(known(points), key=lambda p: -p[0])
     if len(pts) < 2:
         return None
     for (_, a, ea), (_, b, eb) in zip(pts, pts[1:]):
@@ -72,7 +91,7 @@ def trend(points, rises_as_e_falls):
 def non_monotonic(points):
     """The sequence over e changes direction: one step up and one step down, each beyond SIG
     combined errors where errors exist (a flat sequence is not non-monotonic)."""
-    pts = sorted(points, key=lambda p: -p[0])
+    pts = sorted(known(points), key=lambda p: -p[0])
     if len(pts) < 3:
         return None
     up = down = False

@@ -44,9 +44,12 @@ class Job:
                 if v is not None]
 
     def moment(self, slab, component):
-        """{skewness, skewness_error, kurtosis, kurtosis_error, sigma} of a slab, or None."""
-        return self.sweep.index("vdf_moments", ("moment_bin", "moment_component")).get(
+        """{skewness, skewness_error, kurtosis, kurtosis_error, sigma} of a slab, or None (also
+        when a moment or its error is null: too few samples)."""
+        m = self.sweep.index("vdf_moments", ("moment_bin", "moment_component")).get(
             (self.id, slab, component))
+        keys = ("skewness", "skewness_error", "kurtosis", "kurtosis_error")
+        return m if m is not None and all(m.get(k) is not None for k in keys) else None
 
     def moment_slabs(self):
         return sorted({k[1] for k in self.sweep.index(
@@ -55,27 +58,32 @@ class Job:
     def vdf(self, slab, component):
         """[(x, p, gaussian)] of one slab and component (P(0) = 1 scaling)."""
         return sorted((r["x"], r["p"], r["gaussian"]) for r in self.sweep.select(
-            "vdf", self.id, vdf_bin=slab, component=component))
+            "vdf", self.id, vdf_bin=slab, component=component) if r["p"] is not None)
 
     def lambdas(self):
         """[(slab, Lambda, error)] across the channel."""
         return sorted((r["lambda_bin"], r["lambda"], r["lambda_error"])
-                      for r in self.sweep.select("orientation", self.id))
+                      for r in self.sweep.select("orientation", self.id)
+                      if r["lambda"] is not None and r["lambda_error"] is not None)
+
+    def last_slab(self):
+        """The slab at the wall y = W (the last slab of the orientation table)."""
+        return max((r["lambda_bin"] for r in self.sweep.select("orientation", self.id)), default=None)
 
     def pair_correlation(self, slab):
         """[(r, g, pairs)] of one slab (None: all slabs)."""
         return sorted((r["r"], r["g"], r["g_pairs"]) for r in self.sweep.select(
-            "pair_correlation", self.id, g_bin=slab))
+            "pair_correlation", self.id, g_bin=slab) if r["g"] is not None)
 
     def velocity_correlation(self, slab, pair):
         """[(r, C, pairs)] of one slab and component pair ('xx', 'yy', ...)."""
         return sorted((r["c_r"], r["c"], r["c_pairs"]) for r in self.sweep.select(
-            "velocity_correlation", self.id, c_bin=slab, c_pair=pair))
+            "velocity_correlation", self.id, c_bin=slab, c_pair=pair) if r["c"] is not None)
 
     def free_paths(self):
         """[(l, P(l))] over all slabs."""
         return sorted((r["l"], r["p_l"]) for r in self.sweep.select(
-            "free_paths", self.id, l_bin=None))
+            "free_paths", self.id, l_bin=None) if r["p_l"] is not None)
 
 
 def cells_of(ron):
