@@ -58,17 +58,22 @@ def bins_alike_smooth(sweep):
     return r
 
 
+def every_bin(sweep, r, beta, e, component, test, show):
+    """One case per bin of the job at (e, beta): test(moment of `component`)."""
+    for j in r.results(sweep, beta=beta, e=e):
+        for s in j.moment_slabs():
+            m = j.moment(s, component)
+            if m:
+                r.check(test(m), f"{bin_name(s)} ({show(m)})")
+        r.show(f"{sum(ok for ok, _ in r.cases)} of {len(r.cases)} bins")
+    return r
+
+
 def omega_z_super_smooth(sweep):
     r = Row("3.2", "\"the tails of P(Omega_z) are super-Gaussian for beta = -0.99 in all bins "
             "(Fig. 3.12(f))\" (e = 0.8)", f"kurtosis of Omega_z above 3 by more than {SIG:g} "
             "errors in every bin", moments_averaging(sweep, "every bin"))
-    for j in r.results(sweep, beta=-0.99, e=0.8):
-        for s in j.moment_slabs():
-            m = j.moment(s, "Omega_z")
-            if m:
-                r.check(super_gaussian(m), f"{bin_name(s)} ({kurt(m)})")
-        r.show(f"{sum(ok for ok, _ in r.cases)} of {len(r.cases)} bins")
-    return r
+    return every_bin(sweep, r, -0.99, 0.8, "Omega_z", super_gaussian, kurt)
 
 
 def cx_tail_negative_grows(sweep):
@@ -133,13 +138,7 @@ def cx_negative_rough(sweep):
             "towards negative side. This deviation is present in all bins\" (beta = 0, e = 0.8)",
             f"skewness of C_x below 0 by more than {SIG:g} errors in every bin",
             moments_averaging(sweep, "every bin"))
-    for j in r.results(sweep, beta=0.0, e=0.8):
-        for s in j.moment_slabs():
-            m = j.moment(s, "C_x")
-            if m:
-                r.check(negative_skew(m), f"{bin_name(s)} ({skew(m)})")
-        r.show(f"{sum(ok for ok, _ in r.cases)} of {len(r.cases)} bins")
-    return r
+    return every_bin(sweep, r, 0.0, 0.8, "C_x", negative_skew, skew)
 
 
 def four_symmetric_rough(sweep):
