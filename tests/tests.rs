@@ -19,7 +19,7 @@ mod edmd;
 mod engine;
 /// The lattice gas: conservation, the bit-parallel kernel, the seed's oracles, sweeps.
 mod lga;
-/// Figures, the HTML report and the viewer files.
+/// Figures, the HTML report, the viewer files and the thesis-statement script's readings.
 mod report;
 /// Slurm job arrays on a real single-node cluster, and array tasks.
 mod slurm;
