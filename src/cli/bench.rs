@@ -334,8 +334,24 @@ fn workloads(args: &BenchArgs) -> Vec<Workload> {
             params: thesis_dense_channel(),
             warmup: args.channel_warmup,
         },
+        Workload {
+            // the same as its steady sweep runs it (sweeps/thesis-ch4-dense-steady.ron): from
+            // the thermalised start, at the t_c valid at phi = 0.5 (docs/dense-flows.md)
+            name: "channel-ch4-dense-N19600-steady",
+            params: EdmdParams {
+                tc: DENSE_STEADY_TC,
+                placement: Placement::Thermalised {
+                    collisions_per_particle: 100,
+                },
+                ..thesis_dense_channel()
+            },
+            warmup: args.channel_warmup,
+        },
     ]
 }
+
+/// t_c of the dense case's steady sweep (the t_c scan at phi = 0.5, docs/dense-flows.md).
+const DENSE_STEADY_TC: f64 = 1e-6;
 
 /// The thesis' dense channel (section 4.2): N = 19 600 in 20 x 50 x 20 d, e = beta = 0.9,
 /// walls e_w = beta_w = 1.

@@ -2,7 +2,7 @@
 //! resumed ends bitwise identical to the uninterrupted run; truncated, corrupt and foreign
 //! checkpoints are rejected with a reason.
 
-use granflow::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, SearchPolicy};
+use granflow::engine::edmd::{EdmdEngine, EdmdParams, NeighbourSearch, Placement, SearchPolicy};
 use granflow::engine::{self, EngineError, Snapshot, StopAt};
 
 fn channel() -> EdmdParams {
@@ -77,6 +77,20 @@ fn resumed_run_with_neighbour_lists_is_bitwise_identical() {
         NeighbourSearch::automatic(&dense),
         NeighbourSearch::Lists { .. }
     ));
+    resume_equals_uninterrupted(dense);
+}
+
+/// The same from the thermalised start (a random packing run 200 collisions per particle
+/// elastic and without gravity; src/engine/edmd/start.rs) in a dense channel, phi = 0.5: the
+/// start is the run's state at t = 0, so a checkpoint after it carries everything.
+#[test]
+fn resumed_run_from_a_thermalised_start_is_bitwise_identical() {
+    let mut dense = EdmdParams::channel(10.0, 10.0, 10.0, 0.5, 42);
+    dense.restitution = 0.9;
+    dense.roughness = 0.9;
+    dense.placement = Placement::Thermalised {
+        collisions_per_particle: 200,
+    };
     resume_equals_uninterrupted(dense);
 }
 

@@ -4,9 +4,12 @@
 //!   those totals, consistent with 1 for a steady run;
 //! - a run until steady stops at the same snapshot, with the same result, whether it runs
 //!   straight through, is stopped and resumed at chosen snapshots, or is killed (SIGKILL) at
-//!   random moments and rerun.
+//!   random moments and rerun;
+//! - a job from the thermalised start keeps its id scheme and survives kill -9 during and
+//!   after the start.
 
 use granflow::analysis::{Analysis, Record};
+use granflow::engine::edmd::{self, Placement};
 use granflow::sweep::execute::{self, JobEnd};
 use granflow::sweep::{PlannedJob, load_sweep, store};
 use std::path::{Path, PathBuf};
@@ -197,5 +200,100 @@ fn run_until_steady_survives_kill_9() {
         deterministic(got),
         deterministic(expect),
         "after {kills} kills"
+    );
+}
+
+/// A dense channel from the thermalised start (phi = 0.5, e = beta = 0.9, e_w = beta_w = 1,
+/// `thermalise: 4000`, about a million elastic collisions before t = 0), on the time clock.
+fn thermalised_sweep(dir: &Path, thermalise: &str) -> PathBuf {
+    let path = dir.join("dense.ron");
+    std::fs::write(
+        &path,
+        format!(
+            "(\n    engine: \"edmd\",\n    fixed: (length_over_width: 1.0, width_over_diameter: 8.0, height_over_diameter: 8.0,\n        volume_fraction: 0.5, restitution: 0.9, roughness: 0.9, wall_restitution: 1.0,\n        wall_roughness: 1.0, {thermalise}),\n    seeds: [3],\n    run: (time: 6.0, snapshot_interval: 0.5, checkpoint_every: 2),\n)\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// `thermalise` is in a job's id only when it is not 0 (existing jobs keep their ids), and a
+/// job from the thermalised start killed with SIGKILL before its first checkpoint (while it
+/// thermalises) and after it, and rerun each time, ends identical to the uninterrupted job.
+#[test]
+fn a_thermalised_start_survives_kill_9_during_and_after_the_start() {
+    let dir = scratch("thermalised-kill");
+    let plain = load_sweep(&thermalised_sweep(&dir, ""), &[]).unwrap();
+    let zero = load_sweep(&thermalised_sweep(&dir, "thermalise: 0"), &[]).unwrap();
+    let file = thermalised_sweep(&dir, "thermalise: 4000");
+    let sweep = load_sweep(&file, &[]).unwrap();
+    assert_eq!(plain.plan[0].id, zero.plan[0].id);
+    assert_ne!(plain.plan[0].id, sweep.plan[0].id);
+    let placement = |s: &granflow::sweep::Sweep| {
+        let job = &s.plan[0].params;
+        edmd::params_of(&job.values, job.seed).placement
+    };
+    assert_eq!(placement(&plain), Placement::Auto);
+    assert_eq!(
+        placement(&sweep),
+        Placement::Thermalised {
+            collisions_per_particle: 4000
+        }
+    );
+
+    let args = |results: &Path| {
+        vec![
+            "run".to_string(),
+            file.to_str().unwrap().to_string(),
+            "--results".into(),
+            results.to_str().unwrap().to_string(),
+            "--threads".into(),
+            "1".into(),
+        ]
+    };
+    let reference = dir.join("reference");
+    crate::common::granflow_ok(
+        &args(&reference)
+            .iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>(),
+    );
+    let id = &sweep.plan[0].id;
+    let expect = store::read_result(&reference.join("dense/jobs").join(&id.0)).unwrap();
+
+    let results = dir.join("results");
+    let job_dir = results.join("dense/jobs").join(&id.0);
+    let (mut before_checkpoint, mut after_checkpoint) = (0u64, 0u64);
+    let started = Instant::now();
+    let mut delay = Duration::from_millis(100);
+    while !job_dir.join(store::RESULT_FILE).exists() {
+        let mut child = Command::new(BIN)
+            .args(args(&results))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(delay);
+        if child.try_wait().unwrap().is_none() {
+            if job_dir.join(store::CHECKPOINT_FILE).exists() {
+                after_checkpoint += 1;
+            } else {
+                before_checkpoint += 1;
+            }
+            child.kill().unwrap();
+        }
+        child.wait().unwrap();
+        delay += Duration::from_millis(97);
+        assert!(started.elapsed() < Duration::from_secs(300), "no progress");
+    }
+    assert!(
+        before_checkpoint >= 1 && after_checkpoint >= 1,
+        "kills before the first checkpoint: {before_checkpoint}, after: {after_checkpoint}"
+    );
+    let got = store::read_result(&job_dir).unwrap();
+    assert_eq!(
+        deterministic(got),
+        deterministic(expect),
+        "after {before_checkpoint} kills before the first checkpoint and {after_checkpoint} after"
     );
 }

@@ -1,7 +1,7 @@
 //! The EDMD engine's declaration: its sweep parameters (the thesis channel),
 //! N from phi, the placeability check, clocks, estimates and counters.
 
-use super::{EdmdEngine, EdmdParams, particles_for_volume_fraction};
+use super::{EdmdEngine, EdmdParams, Placement, particles_for_volume_fraction};
 use crate::engine::declare::{
     CounterDef, InId, ParamDefault, ParamKind, Problem, RatioDef, ranges,
 };
@@ -88,6 +88,11 @@ fn inertia(v: f64) -> bool {
 fn count(v: f64) -> bool {
     (1.0..=MOST_PARTICLES).contains(&v)
 }
+/// Longest thermalisation, in collisions per particle (a stored whole number).
+const LONGEST_THERMALISATION: f64 = 1e6;
+fn thermalisation(v: f64) -> bool {
+    (0.0..=LONGEST_THERMALISATION).contains(&v)
+}
 
 const fn real(
     name: &'static str,
@@ -112,7 +117,8 @@ const fn real(
 }
 
 /// The sweepable parameters, in expansion order (the last swept one varies fastest). All of
-/// them but `volume_fraction` (which follows from N and the box) are in the first id scheme.
+/// them but `volume_fraction` (which follows from N and the box) and `thermalise` (added
+/// later: in a job's id only when not 0) are in the first id scheme.
 const PARAMS: &[ParamDef] = &[
     real(
         "length_over_width",
@@ -237,6 +243,19 @@ const PARAMS: &[ParamDef] = &[
         ranges::positive,
         "kT of the initial Gaussian translational and rotational velocities",
     ),
+    ParamDef {
+        kind: ParamKind::Integer,
+        in_id: InId::AwayFromDefault,
+        ..real(
+            "thermalise",
+            "n_th",
+            "collisions per particle",
+            ParamDefault::Number(0.0),
+            "a whole number 0 <= n_th <= 1e6 (0: start from the placement)",
+            thermalisation,
+            "the start: 0 places the spheres (a lattice above phi = 0.3); n_th > 0 packs them at random and runs n_th collisions per particle elastic, smooth and without gravity first, so that a dense channel starts as a fluid (docs/dense-flows.md)",
+        )
+    },
 ];
 
 fn number(values: &Values, name: &str) -> f64 {
@@ -341,6 +360,13 @@ pub fn params_of(values: &Values, seed: u64) -> EdmdParams {
     p.gravity = number(values, "gravity");
     p.tc = number(values, "tc");
     p.initial_temperature = number(values, "initial_temperature");
+    // jobs stored before the parameter existed read NaN here: the placement, as they ran
+    let thermalise = number(values, "thermalise");
+    if thermalise > 0.0 {
+        p.placement = Placement::Thermalised {
+            collisions_per_particle: thermalise as u32,
+        };
+    }
     p
 }
 

@@ -7,7 +7,8 @@
 //!   for tests); `images` (periodic image codes), `search` (the buffers that keep candidates
 //!   without a branch), `huge` (large arrays on huge pages) and `prefetch` (cache hints)
 //!   serve them.
-//! - [`setup`]: placement and initial velocities; [`checkpoint`]: the file format.
+//! - [`setup`]: placement and initial velocities; [`start`]: the thermalised start (a random
+//!   packing run elastic and without gravity); [`checkpoint`]: the file format.
 //! - [`EdmdEngine`] (`engine/`): the struct and its construction (`mod.rs`), `rebuild`,
 //!   `cell_search` and `list_search` (event prediction; `lanes`: the contact test's first pass
 //!   for two partners at once), `event_loop`, `collide` (what an event does), `stall`
@@ -29,6 +30,7 @@ pub mod reference;
 mod search;
 pub mod search_policy;
 pub mod setup;
+pub mod start;
 
 pub use checkpoint::EdmdCounters;
 pub use declaration::{DECLARATION, geometry, lattice_capacity, params_of};

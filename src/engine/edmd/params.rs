@@ -17,6 +17,10 @@ pub enum Placement {
     Lattice,
     /// an fcc lattice (the box must hold whole unit cells, as in the benchmark workloads)
     Fcc,
+    /// a random packing, then this many collisions per particle elastic, smooth and without
+    /// gravity before the run starts (see [`super::start`]): a fluid at rest on average. Last
+    /// in the list, so that checkpoints written before it decode unchanged.
+    Thermalised { collisions_per_particle: u32 },
 }
 
 /// Everything that defines one EDMD run (units d = m = g = 1).

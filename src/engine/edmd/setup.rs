@@ -1,6 +1,7 @@
 //! Initial state: non-overlapping placement at volume fraction phi and Gaussian velocities,
 //! all drawn from a seeded portable RNG (PCG-64) with platform-independent arithmetic, so the
-//! same parameters and seed give bitwise the same start on every machine.
+//! same parameters and seed give bitwise the same start on every machine (the thermalised
+//! start, [`super::start`], then runs a deterministic elastic stage on it).
 
 use super::{EdmdParams, Placement};
 use crate::engine::{BoxGeometry, EngineError};
@@ -34,6 +35,8 @@ pub fn initial_state(params: &EdmdParams) -> Result<InitialState, EngineError> {
             }
         }
         Placement::Auto => lattice_placement(params, &mut rng)?,
+        Placement::Thermalised { .. } => super::start::random_packing(params, &mut rng)
+            .ok_or_else(|| unplaceable(params, "a random packing (thermalise > 0)"))?,
     };
     let n = positions.len();
     // equipartition: <c_a^2> = kT/m, <w_a^2> = kT/I with I = K m d^2 / 4
@@ -41,11 +44,17 @@ pub fn initial_state(params: &EdmdParams) -> Result<InitialState, EngineError> {
     let sigma_w = (params.initial_temperature / (params.inertia_factor / 4.0)).sqrt();
     let velocities = zero_mean((0..n).map(|_| gaussian3(&mut rng, sigma_c)).collect());
     let angular_velocities = zero_mean((0..n).map(|_| gaussian3(&mut rng, sigma_w)).collect());
-    Ok(InitialState {
+    let placed = InitialState {
         positions,
         velocities,
         angular_velocities,
-    })
+    };
+    match params.placement {
+        Placement::Thermalised {
+            collisions_per_particle,
+        } => super::start::thermalise(params, placed, collisions_per_particle),
+        _ => Ok(placed),
+    }
 }
 
 fn unplaceable(params: &EdmdParams, how: &str) -> EngineError {
@@ -75,7 +84,7 @@ pub(crate) fn gaussian3(rng: &mut Pcg64, sigma: f64) -> [f64; 3] {
     [sigma * normal(), sigma * normal(), sigma * normal()]
 }
 
-fn zero_mean(mut v: Vec<[f64; 3]>) -> Vec<[f64; 3]> {
+pub(super) fn zero_mean(mut v: Vec<[f64; 3]>) -> Vec<[f64; 3]> {
     let n = v.len().max(1) as f64;
     let mut mean = [0.0; 3];
     for x in &v {
@@ -92,7 +101,7 @@ fn zero_mean(mut v: Vec<[f64; 3]>) -> Vec<[f64; 3]> {
 }
 
 /// Range of centre coordinates along each axis: [0, extent) periodic, [a, extent - a] walls.
-fn centre_ranges(g: &BoxGeometry) -> [(f64, f64); 3] {
+pub(super) fn centre_ranges(g: &BoxGeometry) -> [(f64, f64); 3] {
     let y = if g.walls {
         (0.5, g.width - 0.5)
     } else {
@@ -208,7 +217,7 @@ fn lattice_placement(params: &EdmdParams, rng: &mut Pcg64) -> Result<Vec<[f64; 3
 }
 
 /// Which axes are periodic: x and z always, y unless there are walls.
-fn periodic_axes(g: &BoxGeometry) -> [bool; 3] {
+pub(super) fn periodic_axes(g: &BoxGeometry) -> [bool; 3] {
     [true, !g.walls, true]
 }
 

@@ -233,6 +233,16 @@ impl EdmdEngine {
         params.validate()?;
         policy.search.validate()?;
         let start = setup::initial_state(&params)?;
+        Ok(Self::from_initial(params, policy, start))
+    }
+
+    /// A run of `params` from the given initial state at t = 0 (no collision yet), its search
+    /// following `policy` (parameters and policy already validated).
+    pub(in crate::engine::edmd) fn from_initial(
+        params: EdmdParams,
+        policy: SearchPolicy,
+        start: setup::InitialState,
+    ) -> Self {
         let n = params.particles;
         let state = EngineState {
             params,
@@ -249,7 +259,7 @@ impl EdmdEngine {
             stall_window: (0, 0.0),
             search: policy,
         };
-        Ok(Self::from_state(state))
+        Self::from_state(state)
     }
 
     /// Rebuild an engine from checkpoint bytes (see [`checkpoint`]).
