@@ -38,7 +38,7 @@ pub struct BenchArgs {
     /// print a JSON array instead of a table
     #[arg(long)]
     pub json: bool,
-    /// run only the workloads whose name contains this text
+    /// run only the workloads whose name contains this text (a workload's whole name: that one)
     #[arg(long)]
     pub workload: Option<String>,
     /// measured collisions per particle in each workload (after the warm-up)
@@ -600,10 +600,20 @@ struct Selection {
 
 /// The workloads `--workload` names; none is an error listing them all.
 fn select(args: &BenchArgs) -> anyhow::Result<Selection> {
-    let wanted = |name: &str| {
-        args.workload
+    // a workload's whole name selects that one alone, even where it is part of another's
+    // (as the process of its own that measures it asks: `--workload NAME`)
+    let exact = args.workload.as_deref().filter(|s| {
+        workloads(args).iter().any(|w| w.name == *s)
+            || lga_workloads().iter().any(|w| w.name == *s)
+            || dsmc_workloads().iter().any(|w| w.name == *s)
+            || bench_dem::workloads().iter().any(|w| w.name == *s)
+    });
+    let wanted = |name: &str| match exact {
+        Some(whole) => name == whole,
+        None => args
+            .workload
             .as_ref()
-            .is_none_or(|s| name.contains(s.as_str()))
+            .is_none_or(|s| name.contains(s.as_str())),
     };
     let selected: Vec<Workload> = workloads(args)
         .into_iter()

@@ -226,6 +226,47 @@ fn bench_json_keeps_its_keys() {
     assert!(rows[0]["phi"].as_f64().is_some());
 }
 
+/// A workload whose name is part of another's (`channel-ch4-dense-N19600`, and the same from
+/// the thermalised start, `...-steady`): the text selects both, each measured once in a
+/// process of its own, and the whole name selects that one alone (the processes of their own
+/// are started with it: a selection by part of the name there would start them again and
+/// again).
+#[test]
+fn bench_selects_a_workload_whose_name_is_part_of_another() {
+    let rows = |workload: &str| -> Vec<String> {
+        let out = granflow(&[
+            "bench",
+            "--json",
+            "--workload",
+            workload,
+            "--collisions-per-particle",
+            "0.5",
+            "--channel-warmup",
+            "0.5",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+        rows.iter()
+            .map(|r| r["workload"].as_str().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(
+        rows("channel-ch4-dense"),
+        [
+            "channel-ch4-dense-N19600",
+            "channel-ch4-dense-N19600-steady"
+        ]
+    );
+    assert_eq!(
+        rows("channel-ch4-dense-N19600"),
+        ["channel-ch4-dense-N19600"]
+    );
+}
+
 /// `bench --from-job` times a job's saved state with the same JSON keys, for each search;
 /// a job without a checkpoint is refused with the directory named.
 #[test]
