@@ -20,18 +20,42 @@ use crate::common::{BIN, kill_until_exit};
 
 use crate::common::scratch;
 
-/// The small channel of the balance test in tests/edmd/channel.rs: L = W = H = 10,
-/// phi = 0.15 (N = 286), e = 0.8, steady after about 250 collisions per particle.
-fn sweep_file(dir: &Path, run: &str) -> PathBuf {
-    let path = dir.join("small.ron");
+/// A one-job EDMD sweep file `<name>.ron` in `dir`: the channel `fixed`, one seed, `run`.
+fn channel_sweep(dir: &Path, name: &str, fixed: &str, seed: u64, run: &str) -> PathBuf {
+    let path = dir.join(format!("{name}.ron"));
     std::fs::write(
         &path,
         format!(
-            "(\n    engine: \"edmd\",\n    fixed: (length_over_width: 1.0, width_over_diameter: 10.0, height_over_diameter: 10.0,\n        volume_fraction: 0.15, restitution: 0.8),\n    seeds: [5],\n    run: {run},\n)\n"
+            "(\n    engine: \"edmd\",\n    fixed: ({fixed}),\n    seeds: [{seed}],\n    run: {run},\n)\n"
         ),
     )
     .unwrap();
     path
+}
+
+/// The small channel of the balance test in tests/edmd/channel.rs: L = W = H = 10,
+/// phi = 0.15 (N = 286), e = 0.8, steady after about 250 collisions per particle.
+fn sweep_file(dir: &Path, run: &str) -> PathBuf {
+    channel_sweep(
+        dir,
+        "small",
+        "length_over_width: 1.0, width_over_diameter: 10.0, height_over_diameter: 10.0, \
+         volume_fraction: 0.15, restitution: 0.8",
+        5,
+        run,
+    )
+}
+
+/// `granflow run FILE --results RESULTS --threads 1`.
+fn run_args(file: &Path, results: &Path) -> Vec<String> {
+    vec![
+        "run".to_string(),
+        file.to_str().unwrap().to_string(),
+        "--results".into(),
+        results.to_str().unwrap().to_string(),
+        "--threads".into(),
+        "1".into(),
+    ]
 }
 
 fn finish(job: &PlannedJob, dir: &Path) -> store::JobResult {
@@ -161,16 +185,7 @@ fn run_until_steady_survives_kill_9() {
     let dir = scratch("until-steady-kill");
     let file = sweep_file(&dir, UNTIL_STEADY);
     let reference = dir.join("reference");
-    let args = |results: &Path| {
-        vec![
-            "run".to_string(),
-            file.to_str().unwrap().to_string(),
-            "--results".into(),
-            results.to_str().unwrap().to_string(),
-            "--threads".into(),
-            "1".into(),
-        ]
-    };
+    let args = |results: &Path| run_args(&file, results);
     let out = Command::new(BIN).args(args(&reference)).output().unwrap();
     assert!(
         out.status.success(),
@@ -208,15 +223,17 @@ fn run_until_steady_survives_kill_9() {
 /// collisions per particle (2 million) with a checkpoint every 400: both stages long against
 /// the 97 ms by which the kills below move.
 fn thermalised_sweep(dir: &Path, thermalise: &str) -> PathBuf {
-    let path = dir.join("dense.ron");
-    std::fs::write(
-        &path,
-        format!(
-            "(\n    engine: \"edmd\",\n    fixed: (length_over_width: 1.0, width_over_diameter: 8.0, height_over_diameter: 8.0,\n        volume_fraction: 0.5, restitution: 0.9, roughness: 0.9, wall_restitution: 1.0,\n        wall_roughness: 1.0, {thermalise}),\n    seeds: [3],\n    run: (collisions_per_particle: 8000.0, snapshot_interval: 400.0, checkpoint_every: 1),\n)\n"
+    channel_sweep(
+        dir,
+        "dense",
+        &format!(
+            "length_over_width: 1.0, width_over_diameter: 8.0, height_over_diameter: 8.0, \
+             volume_fraction: 0.5, restitution: 0.9, roughness: 0.9, wall_restitution: 1.0, \
+             wall_roughness: 1.0, {thermalise}"
         ),
+        3,
+        "(collisions_per_particle: 8000.0, snapshot_interval: 400.0, checkpoint_every: 1)",
     )
-    .unwrap();
-    path
 }
 
 /// `thermalise` is in a job's id only when it is not 0 (existing jobs keep their ids), and a
@@ -243,16 +260,7 @@ fn a_thermalised_start_survives_kill_9_during_and_after_the_start() {
         }
     );
 
-    let args = |results: &Path| {
-        vec![
-            "run".to_string(),
-            file.to_str().unwrap().to_string(),
-            "--results".into(),
-            results.to_str().unwrap().to_string(),
-            "--threads".into(),
-            "1".into(),
-        ]
-    };
+    let args = |results: &Path| run_args(&file, results);
     let reference = dir.join("reference");
     crate::common::granflow_ok(
         &args(&reference)
