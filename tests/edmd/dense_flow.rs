@@ -13,8 +13,8 @@ use granflow::engine::edmd::{self, Placement};
 use granflow::sweep::execute::{self, JobEnd};
 use granflow::sweep::{PlannedJob, load_sweep, store};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::time::Duration;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 use crate::common::{BIN, kill_until_exit};
 
