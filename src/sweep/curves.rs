@@ -11,6 +11,7 @@
 
 use super::phase::{Cell, CellJob, DISAGREE, PhaseDiagram, fmt_value};
 use super::tables::GatheredJob;
+use super::vertex_fit::{self, VertexFit};
 use crate::engine::{EngineDef, ParamValue};
 use crate::figure::ticks::{self, Axis};
 use crate::figure::{Scale, Sizing};
@@ -82,6 +83,10 @@ pub struct Minimum {
     /// inside the curve, and below a value on each side by more than twice the combined
     /// standard error (or, without errors, by more than 1 %)
     pub interior: bool,
+    /// the vertex of a weighted least-squares parabola through the valid points around the
+    /// lowest one, with its 68 % interval ([`vertex_fit`](super::vertex_fit)); None without
+    /// errors, at an end, or where no parabola fits
+    pub fit: Option<VertexFit>,
 }
 
 /// A plot of `y` over `x`, one series per value of `by`.
@@ -358,10 +363,11 @@ impl CurvePlot {
                     m.value,
                     if m.interior {
                         format!(
-                            ": a dip, below points on both sides{}",
+                            ": a dip, below points on both sides{}{}",
                             m.vertex
                                 .map(|v| format!(" (parabola vertex at {v:.3})"))
-                                .unwrap_or_default()
+                                .unwrap_or_default(),
+                            m.fit.map(|f| fit_text(&self.x, &f)).unwrap_or_default()
                         )
                     } else {
                         String::new()
@@ -504,7 +510,7 @@ impl CurvePlot {
                     .x_label_formatter(&x_format)
                     .y_label_formatter(&y_format)
                     .draw()?;
-                self.draw_series(&mut chart, s)?;
+                self.draw_series(&mut chart, s, (y0, y1))?;
             }};
         }
         let log = |lo: f64, hi: f64, ticks: Vec<f64>| {
@@ -526,11 +532,13 @@ impl CurvePlot {
         &self,
         chart: &mut ChartContext<'a, DB, CT>,
         s: Scale,
+        (y0, y1): (f64, f64),
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>>
     where
         DB: DrawingBackend + 'a,
         CT: CoordTranslate<From = (f64, f64)>,
     {
+        let mut any_fit = false;
         let mut any_invalid = false;
         let mut any_disagree = false;
         let (radius, key) = (s.px(4), s.px(18));
@@ -554,6 +562,21 @@ impl CurvePlot {
                 ),
                 None => series.name.clone(),
             };
+            // behind the curve: the fitted minimum's 68 % band and its vertex
+            if let Some(f) = minimum(&series.points, self.log_x)
+                .filter(|m| m.interior)
+                .and_then(|m| m.fit)
+            {
+                any_fit = true;
+                chart.draw_series(std::iter::once(Rectangle::new(
+                    [(f.low, y0), (f.high, y1)],
+                    colour.mix(0.15).filled(),
+                )))?;
+                chart.draw_series(std::iter::once(PathElement::new(
+                    vec![(f.vertex, y0), (f.vertex, y1)],
+                    colour.mix(0.6).stroke_width(s.line(1.0)),
+                )))?;
+            }
             let line = s.line(2.0);
             chart
                 .draw_series(LineSeries::new(valid_line, colour.stroke_width(line)))?
@@ -594,6 +617,17 @@ impl CurvePlot {
             }
         }
         let grey = RGBColor(90, 90, 90);
+        if any_fit {
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
+                .label("band: minimum of a weighted parabola, 68 %")
+                .legend(move |(x, y)| {
+                    Rectangle::new(
+                        [(x, y - s.px(5)), (x + key, y + s.px(5))],
+                        grey.mix(0.25).filled(),
+                    )
+                });
+        }
         if any_invalid {
             chart
                 .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
@@ -740,6 +774,23 @@ fn labels_text(labels: &[(String, usize)]) -> String {
         .join(", ")
 }
 
+/// The weighted parabola's line of a curve's table: where it puts the minimum, how precisely,
+/// from which points and how well it fits.
+fn fit_text(x: &str, f: &VertexFit) -> String {
+    format!(
+        "\n  weighted parabola through the {} points {x} = {} ... {}: minimum at {x} = {:.4} \
+         (68 %: {:.4} ... {:.4}, +-{:.1} %), chi^2/dof = {:.2}",
+        f.points,
+        fmt_value(&ParamValue::Number(f.from)),
+        fmt_value(&ParamValue::Number(f.to)),
+        f.vertex,
+        f.low,
+        f.high,
+        100.0 * f.relative_half_width(),
+        f.chi2_per_dof
+    )
+}
+
 /// The minimum of a curve over its valid points (in increasing x); None without valid points.
 /// A curve has an *interior* minimum where some inner point lies below a point on each side
 /// by more than twice their combined standard error (a significant dip: the flow rate falls,
@@ -789,11 +840,25 @@ pub fn minimum(points: &[Point], log_x: bool) -> Option<Minimum> {
             if log_x { v.exp() } else { v }
         })
     };
+    let samples: Vec<vertex_fit::Sample> = pts
+        .iter()
+        .map(|p| vertex_fit::Sample {
+            x: p.x,
+            y: p.y,
+            error: p.error,
+        })
+        .collect();
+    let fit = if at_end {
+        None
+    } else {
+        vertex_fit::fit_vertex(&samples, i, log_x)
+    };
     Some(Minimum {
         at: best.x,
         value: best.y,
         vertex,
         interior,
+        fit,
     })
 }
 
@@ -921,6 +986,10 @@ mod tests {
         assert!(m.interior);
         // the three points around x = 1 are symmetric in ln x: the vertex is x = 1
         assert!((m.vertex.unwrap() - 1.0).abs() < 1e-12, "{m:?}");
+        // and the weighted parabola through all five (they lie on one) says the same
+        let fit = m.fit.expect("a parabola through five points of a parabola");
+        assert_eq!(fit.points, 5);
+        assert!((fit.vertex - 1.0).abs() < 1e-9, "{fit:?}");
     }
 
     #[test]

@@ -32,6 +32,7 @@ pub mod spec;
 pub mod store;
 mod suggest;
 pub mod tables;
+pub mod vertex_fit;
 
 pub use grid::PlannedJob;
 pub use job::{JobId, JobParams, RunSettings};
