@@ -353,26 +353,36 @@ fn distinct<'a>(jobs: impl Iterator<Item = &'a super::JobParams>, name: &str) ->
 /// A done job as a cell sees it.
 fn cell_job(analysis: &crate::analysis::Analysis) -> CellJob {
     let (label, humps) = analysis.label();
-    let summary = analysis.summary();
-    let text = |k: &str| summary.get(k).and_then(|v| v.as_str()).unwrap_or("");
-    let number = |k: &str| summary.get(k).and_then(|v| v.as_f64());
-    CellJob {
-        label: label.to_string(),
-        humps,
-        probabilities: parse_probabilities(text("label_probabilities")),
-        weight: number("steady_snapshots").unwrap_or(1.0),
-        steady: summary
-            .get("steady")
-            .and_then(|v| v.as_bool())
-            .unwrap_or(label != "not-steady"),
-        guard_valid: summary
-            .get("collapse_guard_valid")
-            .and_then(|v| v.as_bool())
-            .unwrap_or(true),
-        three_dimensional: summary
-            .get("three_dimensional")
-            .and_then(|v| v.as_bool())
-            .unwrap_or(false),
+    CellJob::from_summary(label, humps, &analysis.summary())
+}
+
+impl CellJob {
+    /// A done job's entry from its label, humps and summary (the jobs table's row).
+    pub fn from_summary(
+        label: &str,
+        humps: u32,
+        summary: &serde_json::Map<String, serde_json::Value>,
+    ) -> CellJob {
+        let text = |k: &str| summary.get(k).and_then(|v| v.as_str()).unwrap_or("");
+        let number = |k: &str| summary.get(k).and_then(|v| v.as_f64());
+        CellJob {
+            label: label.to_string(),
+            humps,
+            probabilities: parse_probabilities(text("label_probabilities")),
+            weight: number("steady_snapshots").unwrap_or(1.0),
+            steady: summary
+                .get("steady")
+                .and_then(|v| v.as_bool())
+                .unwrap_or(label != "not-steady"),
+            guard_valid: summary
+                .get("collapse_guard_valid")
+                .and_then(|v| v.as_bool())
+                .unwrap_or(true),
+            three_dimensional: summary
+                .get("three_dimensional")
+                .and_then(|v| v.as_bool())
+                .unwrap_or(false),
+        }
     }
 }
 

@@ -17,9 +17,12 @@
 //! two intervals beside the lowest point (it halves the longer side of the bracket), until
 //! both are at the finest spacing.
 //!
-//! Classes ([`Class`]): a point's label (the label of at least two thirds of its seeds), its
-//! value (the mean over its seeds), or [`Class::Other`] when a seed failed, did not reach a
-//! steady state, or no label holds two thirds: `Other` is a class of its own, different from
+//! Classes ([`Class`]): a point's label, the one its phase-diagram cell shows (its seeds'
+//! label probabilities merged, weighted by their window snapshots: the modal label with at
+//! least two thirds, else `mixed`; [`super::phase::Cell::verdict`]), so that every boundary
+//! the diagram draws is one the refinement bisects; its value (the mean over its seeds); or
+//! [`Class::Other`] when more than a third of its seeds failed or did not reach a steady state
+//! (with `Change` and `Minimum`, when any did): `Other` is a class of its own, different from
 //! every label and value and equal to itself (so a boundary between a steady region and a
 //! failing one is found, and two failing points are not bisected).
 
@@ -61,26 +64,31 @@ pub const MAX_LEVELS: u32 = 16;
 /// A point's class for the rules.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Class {
-    /// the label that two thirds of the point's seeds hold
+    /// the label of the point's phase-diagram cell (a clear majority, or `mixed`)
     Label(String),
     /// the mean of the quantity over the point's seeds
     Value(f64),
-    /// failed, not steady, or no two-thirds label
+    /// failed or not steady
     Other,
 }
 
 impl Class {
-    /// The class of a point from its seeds' labels (None: failed or not steady): the label of
-    /// at least two thirds of all seeds, else [`Class::Other`].
-    pub fn of_labels(labels: &[Option<&str>]) -> Class {
-        let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
-        for l in labels.iter().flatten() {
-            *counts.entry(l).or_default() += 1;
+    /// The class of a point from its seeds (None: failed or not steady): the label its
+    /// phase-diagram cell shows for the steady seeds, when at least two thirds of all seeds
+    /// are steady; else [`Class::Other`].
+    pub fn of_replicas(seeds: &[Option<super::phase::CellJob>]) -> Class {
+        let steady: Vec<super::phase::CellJob> = seeds.iter().flatten().cloned().collect();
+        if steady.is_empty() || 3 * steady.len() < 2 * seeds.len() {
+            return Class::Other;
         }
-        counts
-            .into_iter()
-            .find(|&(_, n)| 3 * n >= 2 * labels.len())
-            .map_or(Class::Other, |(l, _)| Class::Label(l.to_string()))
+        let cell = super::phase::Cell {
+            jobs: steady,
+            not_done: 0,
+        };
+        match cell.verdict() {
+            Some(v) if v.label != "not-steady" => Class::Label(v.label),
+            _ => Class::Other,
+        }
     }
 
     /// The class of a point from its seeds' values (None: failed, not steady or not finite):
@@ -92,6 +100,13 @@ impl Class {
             _ => Class::Other,
         }
     }
+}
+
+/// A refined value as the researcher would write it: the interpolation's rounding noise
+/// removed (12 significant digits), so that 1 + 3 (1.4 - 1) / 4 is the parameter 1.3 and not
+/// 1.2999999999999998 (a job's id and its tables hold the value itself).
+fn decimal(x: f64) -> f64 {
+    format!("{x:.11e}").parse().unwrap_or(x)
 }
 
 /// Whether two points lie on two sides of a boundary under `quantity`.
@@ -146,7 +161,7 @@ impl Lattice {
             return vals[i.min(vals.len() - 1)];
         }
         let t = k as f64 / s as f64;
-        vals[i] + t * (vals[i + 1] - vals[i])
+        decimal(vals[i] + t * (vals[i + 1] - vals[i]))
     }
 
     /// The refinement level of a site: 0 on the base grid, `L` at the finest spacing.
@@ -411,6 +426,14 @@ mod tests {
         assert_eq!(lat.value(0, 12), 5.0);
         assert_eq!(lat.level([6, 0]), 1);
         assert_eq!(lat.level([5, 0]), 2);
+        // refined values are the decimals a researcher writes, not the interpolation's
+        // rounding noise (1 + 3 (1.4 - 1) / 4 = 1.2999999999999998 in floating point)
+        let lat = line(&[0.6, 1.0, 1.4, 1.8], 2);
+        assert_eq!(lat.value(0, 7), 1.3);
+        assert_eq!(lat.value(0, 3), 0.9);
+        let lat = line(&[0.2, 0.6, 1.0], 5);
+        assert_eq!(lat.value(0, 1), 0.2125);
+        assert_eq!(lat.value(0, 63), 0.9875);
     }
 
     #[test]
@@ -438,25 +461,67 @@ mod tests {
         assert!(differ(&Quantity::Label, &Class::Other, &label("plug")));
     }
 
+    /// A steady seed's entry: its label probabilities ("plug 0.6; slug 0.4") over `weight`
+    /// window snapshots, labelled by the first.
+    fn seed(probabilities: &str, weight: f64) -> Option<super::super::phase::CellJob> {
+        let probabilities = super::super::phase::parse_probabilities(probabilities);
+        Some(super::super::phase::CellJob {
+            label: probabilities[0].0.clone(),
+            humps: 0,
+            probabilities,
+            weight,
+            steady: true,
+            guard_valid: true,
+            three_dimensional: false,
+        })
+    }
+
     #[test]
-    fn two_thirds_majority_or_other() {
+    fn a_point_is_classed_as_its_diagram_cell() {
+        // seeds that agree: their label
         assert_eq!(
-            Class::of_labels(&[Some("plug"), Some("plug"), Some("slug")]),
+            Class::of_replicas(&[seed("plug 1", 30.0), seed("plug 1", 30.0)]),
+            label("plug")
+        );
+        // two of three seeds plug, one slug: the pooled snapshots are two thirds plug
+        assert_eq!(
+            Class::of_replicas(&[
+                seed("plug 1", 30.0),
+                seed("plug 1", 30.0),
+                seed("slug 1", 30.0)
+            ]),
+            label("plug")
+        );
+        // two seeds of two thirds plug and one that alternates: 59 % plug pooled, so the cell
+        // shows `mixed`, and so does the class (Fig. 5.25's L/W = 1.4, W/d = 15 over three
+        // seeds), even though two seeds of three are labelled plug
+        assert_eq!(
+            Class::of_replicas(&[
+                seed("plug 0.7; slug 0.3", 30.0),
+                seed("plug 0.67; slug 0.33", 30.0),
+                seed("slug 0.6; plug 0.4", 30.0)
+            ]),
+            label("mixed")
+        );
+        assert_eq!(
+            Class::of_replicas(&[seed("plug 1", 30.0), seed("slug 1", 30.0)]),
+            label("mixed")
+        );
+        // the snapshots weigh: a long plug window outweighs a short slug one
+        assert_eq!(
+            Class::of_replicas(&[seed("plug 1", 90.0), seed("slug 1", 10.0)]),
+            label("plug")
+        );
+        // failed or not steady: one seed of three is tolerated, two are not
+        assert_eq!(
+            Class::of_replicas(&[seed("plug 1", 30.0), seed("plug 1", 30.0), None]),
             label("plug")
         );
         assert_eq!(
-            Class::of_labels(&[Some("plug"), Some("slug")]),
+            Class::of_replicas(&[seed("plug 1", 30.0), None, None]),
             Class::Other
         );
-        // a failed seed counts against the majority
-        assert_eq!(
-            Class::of_labels(&[Some("plug"), None, Some("slug")]),
-            Class::Other
-        );
-        assert_eq!(
-            Class::of_labels(&[Some("plug"), Some("plug"), None]),
-            label("plug")
-        );
+        assert_eq!(Class::of_replicas(&[None]), Class::Other);
         assert_eq!(Class::of_values(&[Some(1.0), Some(3.0)]), Class::Value(2.0));
         assert_eq!(Class::of_values(&[Some(1.0), None]), Class::Other);
         assert_eq!(Class::of_values(&[Some(f64::NAN)]), Class::Other);

@@ -5,6 +5,7 @@
 //! points, and a point's jobs have ordinary ids (the refined points are expanded as extra
 //! points of the sweep, after the file's own).
 
+use super::phase::CellJob;
 use super::refine::{Class, Lattice, Quantity, RefineSpec, Site, Slice};
 use super::spec::{ParamValues, SpecError};
 use super::store::JobState;
@@ -166,10 +167,15 @@ fn class_of(
 ) -> Class {
     let steady = |o: &&(String, serde_json::Map<String, serde_json::Value>)| o.0 != "not-steady";
     match quantity {
-        Quantity::Label => Class::of_labels(
+        Quantity::Label => Class::of_replicas(
             &outcomes
                 .iter()
-                .map(|o| o.as_ref().filter(steady).map(|o| o.0.as_str()))
+                .map(|o| {
+                    o.as_ref().filter(steady).map(|(label, summary)| {
+                        let humps = summary.get("humps").and_then(serde_json::Value::as_u64);
+                        CellJob::from_summary(label, humps.unwrap_or(0) as u32, summary)
+                    })
+                })
                 .collect::<Vec<_>>(),
         ),
         Quantity::Change { column, .. } | Quantity::Minimum { column } => Class::of_values(
