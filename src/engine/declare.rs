@@ -345,8 +345,9 @@ pub struct EngineDef {
     /// and `plan`'s estimate)
     pub work: fn(&Values, Clock, f64) -> f64,
     pub work_unit: &'static str,
-    /// typical work units per second on one core (for `plan`'s time estimate)
-    pub work_rate: f64,
+    /// typical work units per second on one core for a job of these resolved values (for
+    /// `plan`'s time estimate before any job of the sweep has run)
+    pub work_rate: fn(&Values) -> f64,
     /// estimated memory of one running job, in bytes
     pub memory: fn(&Values) -> f64,
     /// the counters, in the order snapshots and tables list them

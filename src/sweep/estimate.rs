@@ -5,8 +5,8 @@
 //! Calibration, from the job directories alone:
 //! - the **rate** (work units per core-second): the summed work of the sweep's finished jobs
 //!   and of its unfinished jobs to their checkpoints, over the wall seconds each took (a
-//!   checkpoint keeps them); without either, the engine's typical rate (its declaration's
-//!   `work_rate`);
+//!   checkpoint keeps them); without either, each job's engine's typical rate at the job's
+//!   size (its declaration's `work_rate`);
 //! - for runs measured in simulated time on an engine that counts collisions, the **collisions
 //!   per particle per time unit**: the job's own, when its checkpoint says how far it got;
 //!   else the median over the sweep's finished and checkpointed jobs; else the engine's
@@ -37,8 +37,9 @@ pub struct JobEstimate {
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepEstimate {
     pub jobs: Vec<JobEstimate>,
-    /// work units per core-second used
-    pub rate: f64,
+    /// work units per core-second measured on the sweep's own jobs (None: each job's
+    /// engine's typical rate at its size was used)
+    pub measured_rate: Option<f64>,
     /// where the rate comes from (for the reader)
     pub rate_basis: String,
 }
@@ -134,23 +135,36 @@ pub fn estimate(
             finished.len()
         ),
     };
-    let (rate, rate_basis) = match engine {
+    // the sweep's measured rate, else each job's engine's typical rate at its size
+    let typical = |j: &GatheredJob| (j.job.params.def().work_rate)(&j.job.params.values);
+    let (measured_rate, rate_basis) = match engine {
         Some(def) if secs > 0.0 && work > 0.0 => (
-            work / secs,
+            Some(work / secs),
             format!(
                 "the rate measured on {measured_on} of this sweep ({:.3e} {}/s)",
                 work / secs,
                 def.work_unit
             ),
         ),
-        Some(def) => (
-            def.work_rate,
-            format!(
-                "the {} engine's typical {:.1e} {}/s (no job of this sweep has run yet)",
-                def.name, def.work_rate, def.work_unit
-            ),
-        ),
-        None => (1.0, String::new()),
+        Some(def) => {
+            let rates: Vec<f64> = jobs.iter().map(typical).collect();
+            let (lo, hi) = rates.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
+                (lo.min(r), hi.max(r))
+            });
+            let range = if hi > lo * 1.0001 {
+                format!("{lo:.1e}-{hi:.1e} (by size)")
+            } else {
+                format!("{lo:.1e}")
+            };
+            (
+                None,
+                format!(
+                    "the {} engine's typical {range} {}/s (no job of this sweep has run yet)",
+                    def.name, def.work_unit
+                ),
+            )
+        }
+        None => (Some(1.0), String::new()),
     };
     // collisions per particle per time unit, from every job that got somewhere
     let progress_of = |j: &GatheredJob, m: &Option<(Progress, f64)>| match &j.state {
@@ -229,13 +243,13 @@ pub fn estimate(
                 remaining,
                 least,
                 most,
-                seconds: remaining / rate,
+                seconds: remaining / measured_rate.unwrap_or_else(|| typical(j)),
             }
         })
         .collect();
     SweepEstimate {
         jobs: estimates,
-        rate,
+        measured_rate,
         rate_basis,
     }
 }

@@ -58,7 +58,7 @@ static TOY: EngineDef = EngineDef {
     size: |v| v["particles"].as_f64().unwrap_or(0.0),
     work: |v, _, t| v["particles"].as_f64().unwrap_or(0.0) * t,
     work_unit: "particle moves",
-    work_rate: 1e8,
+    work_rate: |_| 1e8,
     memory: |v| 100.0 * v["particles"].as_f64().unwrap_or(0.0),
     counters: &[],
     ratios: &[],

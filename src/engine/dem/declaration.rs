@@ -36,7 +36,7 @@ pub static DECLARATION: EngineDef = EngineDef {
     size: |v| params_of(v, 0).particle_count() as f64,
     work,
     work_unit: "particle-steps",
-    work_rate: 2.0e7,
+    work_rate,
     memory: |v| {
         // measured peak RSS of dense channels: about 1.2 kB per particle (state, neighbour
         // rows, pair slots, build buffers) over a base of the binary and its buffers
@@ -476,6 +476,18 @@ fn restore(version: u32, payload: &[u8]) -> BuiltEngine {
     Ok(Box::new(engine))
 }
 
+/// Typical particle-steps per second on one core at this job's N: the contact-rich benchmark
+/// channels ran 17.6 M at N = 4052 and 7.2 M at N = 40 524 (docs/performance.md: the larger
+/// working set no longer fits the cache), so the rate falls as a power of N between them and
+/// is held at those values beyond.
+fn work_rate(values: &Values) -> f64 {
+    const SMALL: (f64, f64) = (4052.0, 1.76e7);
+    const LARGE: (f64, f64) = (40524.0, 7.2e6);
+    let n = params_of(values, 0).particle_count() as f64;
+    let exponent = (LARGE.1 / SMALL.1).ln() / (LARGE.0 / SMALL.0).ln();
+    SMALL.1 * (n.clamp(SMALL.0, LARGE.0) / SMALL.0).powf(exponent)
+}
+
 /// Particle-steps of a run, with an estimate of the preparation's: the settling takes about
 /// five free-fall times from the top of the lattice (measured on small channels: 2-6).
 fn work(values: &Values, clock: Clock, length: f64) -> f64 {
@@ -550,5 +562,43 @@ impl DemEngine {
             ("particle_steps", c.particle_steps),
             ("samples", c.samples),
         ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Values of a dem-small-like channel with N particles' worth of length.
+    fn channel(length: f64) -> Values {
+        let mut values = Values::new();
+        for (k, v) in [
+            ("width_over_diameter", 20.0),
+            ("span_over_diameter", 20.0),
+            ("length_over_diameter", length),
+            ("volume_fraction", 0.6),
+        ] {
+            values.insert(k.into(), ParamValue::Number(v));
+        }
+        DECLARATION.resolve_values(&values).unwrap()
+    }
+
+    #[test]
+    fn the_typical_rate_falls_with_size_between_the_measured_ones() {
+        let (small, large) = (channel(5.0), channel(200.0));
+        let n = |v: &Values| params_of(v, 0).particle_count() as f64;
+        assert!(
+            n(&small) < 4052.0 && n(&large) > 40524.0,
+            "{} {}",
+            n(&small),
+            n(&large)
+        );
+        // held at the measured rates beyond the measured sizes
+        assert!((work_rate(&small) - 1.76e7).abs() < 1.0);
+        assert!((work_rate(&large) - 7.2e6).abs() < 1.0);
+        // and falling in between
+        let (a, b) = (channel(40.0), channel(80.0));
+        assert!(n(&a) > 4052.0 && n(&b) < 40524.0, "{} {}", n(&a), n(&b));
+        assert!(1.76e7 > work_rate(&a) && work_rate(&a) > work_rate(&b) && work_rate(&b) > 7.2e6);
     }
 }

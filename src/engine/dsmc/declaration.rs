@@ -33,7 +33,7 @@ pub static DECLARATION: EngineDef = EngineDef {
     size: |v| (params_of(v, 0).cell_count() as f64 * number(v, "particles_per_cell")).round(),
     work,
     work_unit: "moves",
-    work_rate: 5e7,
+    work_rate: |_| 5e7,
     memory: |v| {
         let p = params_of(v, 0);
         // 48 bytes per simulator (state and sort buffers) and the per-cell sampling sums

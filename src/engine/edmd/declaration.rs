@@ -27,7 +27,7 @@ pub static DECLARATION: EngineDef = EngineDef {
     // the thesis channel (W/d = 30, L/W = 3, with its slug) runs 0.31-0.42 M collisions/s on
     // one core of the CI machine kind (`granflow bench --workload channel`); `plan` uses the
     // sweep's own finished jobs once there are any
-    work_rate: 3.5e5,
+    work_rate: |_| 3.5e5,
     memory,
     counters: &[
         CounterDef {

@@ -26,7 +26,7 @@ pub static DECLARATION: EngineDef = EngineDef {
     size: |v| number(v, "density") * number(v, "length") * number(v, "width"),
     work,
     work_unit: "site updates",
-    work_rate: 1e9,
+    work_rate: |_| 1e9,
     memory: |v| 256.0 * number(v, "length") * number(v, "width") + 64e6,
     counters: &[
         CounterDef {
