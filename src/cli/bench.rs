@@ -600,14 +600,16 @@ struct Selection {
 
 /// The workloads `--workload` names; none is an error listing them all.
 fn select(args: &BenchArgs) -> anyhow::Result<Selection> {
+    let names: Vec<&str> = workloads(args)
+        .iter()
+        .map(|w| w.name)
+        .chain(lga_workloads().iter().map(|w| w.name))
+        .chain(dsmc_workloads().iter().map(|w| w.name))
+        .chain(bench_dem::workloads().iter().map(|w| w.name))
+        .collect();
     // a workload's whole name selects that one alone, even where it is part of another's
     // (as the process of its own that measures it asks: `--workload NAME`)
-    let exact = args.workload.as_deref().filter(|s| {
-        workloads(args).iter().any(|w| w.name == *s)
-            || lga_workloads().iter().any(|w| w.name == *s)
-            || dsmc_workloads().iter().any(|w| w.name == *s)
-            || bench_dem::workloads().iter().any(|w| w.name == *s)
-    });
+    let exact = args.workload.as_deref().filter(|s| names.contains(s));
     let wanted = |name: &str| match exact {
         Some(whole) => name == whole,
         None => args
@@ -637,14 +639,7 @@ fn select(args: &BenchArgs) -> anyhow::Result<Selection> {
         !selected.is_empty() || !lattice.is_empty() || !dsmc.is_empty() || !dem.is_empty(),
         "no workload matches {:?}; workloads: {}",
         args.workload.as_deref().unwrap_or(""),
-        workloads(args)
-            .iter()
-            .map(|w| w.name)
-            .chain(lga_workloads().iter().map(|w| w.name))
-            .chain(dsmc_workloads().iter().map(|w| w.name))
-            .chain(bench_dem::workloads().iter().map(|w| w.name))
-            .collect::<Vec<_>>()
-            .join(", ")
+        names.join(", ")
     );
     Ok(Selection {
         edmd: selected,

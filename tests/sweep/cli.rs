@@ -16,6 +16,12 @@ fn granflow(args: &[&str]) -> Output {
     Command::new(BIN).args(args).output().unwrap()
 }
 
+/// The rows of `granflow bench --json <args>` (which must succeed).
+fn bench_rows(args: &[&str]) -> Vec<serde_json::Value> {
+    let out = common::granflow_ok(&[&["bench", "--json"], args].concat());
+    serde_json::from_str(&out).unwrap()
+}
+
 #[test]
 fn where_selects_jobs_and_status_speaks_json() {
     let dir = scratch("where");
@@ -179,20 +185,7 @@ fn a_piped_run_prints_progress_lines() {
 /// workload; numbers are measured (positive), not checked for speed.
 #[test]
 fn bench_json_keeps_its_keys() {
-    let out = granflow(&[
-        "bench",
-        "--json",
-        "--workload",
-        "dsmc-kn1-6000-sampled",
-        "--moves",
-        "2e6",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = bench_rows(&["--workload", "dsmc-kn1-6000-sampled", "--moves", "2e6"]);
     assert_eq!(rows.len(), 1);
     let row = rows[0].as_object().unwrap();
     for key in [
@@ -208,20 +201,7 @@ fn bench_json_keeps_its_keys() {
     }
     assert_eq!(row["n"], 6000);
     assert!(row["moves_per_s"].as_f64().unwrap() > 0.0);
-    let out = granflow(&[
-        "bench",
-        "--json",
-        "--workload",
-        "lga-fig2",
-        "--site-updates",
-        "1e6",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = bench_rows(&["--workload", "lga-fig2", "--site-updates", "1e6"]);
     assert!(rows[0]["site_updates_per_s"].as_f64().unwrap() > 0.0);
     assert!(rows[0]["phi"].as_f64().is_some());
 }
@@ -234,25 +214,17 @@ fn bench_json_keeps_its_keys() {
 #[test]
 fn bench_selects_a_workload_whose_name_is_part_of_another() {
     let rows = |workload: &str| -> Vec<String> {
-        let out = granflow(&[
-            "bench",
-            "--json",
+        bench_rows(&[
             "--workload",
             workload,
             "--collisions-per-particle",
             "0.5",
             "--channel-warmup",
             "0.5",
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let rows: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
-        rows.iter()
-            .map(|r| r["workload"].as_str().unwrap().to_string())
-            .collect()
+        ])
+        .iter()
+        .map(|r| r["workload"].as_str().unwrap().to_string())
+        .collect()
     };
     assert_eq!(
         rows("channel-ch4-dense"),
@@ -299,9 +271,7 @@ fn bench_from_job_times_a_saved_state() {
         .as_f64()
         .unwrap();
     for search in ["auto", "cells", "lists"] {
-        let out = common::granflow_ok(&[
-            "bench",
-            "--json",
+        let rows = bench_rows(&[
             "--from-job",
             job.to_str().unwrap(),
             "--search",
@@ -309,7 +279,6 @@ fn bench_from_job_times_a_saved_state() {
             "--collisions-per-particle",
             "5",
         ]);
-        let rows: Vec<serde_json::Value> = serde_json::from_str(&out).unwrap();
         let row = rows[0].as_object().unwrap();
         for key in [
             "workload",
