@@ -19,7 +19,8 @@
 //!
 //! Classes ([`Class`]): a point's label, the one its phase-diagram cell shows (its seeds'
 //! label probabilities merged, weighted by their window snapshots: the modal label with at
-//! least two thirds, else `mixed`; [`super::phase::Cell::verdict`]), so that every boundary
+//! least two thirds, else `mixed`; the phase module's `Cell::verdict`, applied by
+//! [`super::rounds`]), so that every boundary
 //! the diagram draws is one the refinement bisects; its value (the mean over its seeds); or
 //! [`Class::Other`] when more than a third of its seeds failed or did not reach a steady state
 //! (with `Change` and `Minimum`, when any did): `Other` is a class of its own, different from
@@ -73,20 +74,14 @@ pub enum Class {
 }
 
 impl Class {
-    /// The class of a point from its seeds (None: failed or not steady): the label its
-    /// phase-diagram cell shows for the steady seeds, when at least two thirds of all seeds
-    /// are steady; else [`Class::Other`].
-    pub fn of_replicas(seeds: &[Option<super::phase::CellJob>]) -> Class {
-        let steady: Vec<super::phase::CellJob> = seeds.iter().flatten().cloned().collect();
-        if steady.is_empty() || 3 * steady.len() < 2 * seeds.len() {
-            return Class::Other;
-        }
-        let cell = super::phase::Cell {
-            jobs: steady,
-            not_done: 0,
-        };
-        match cell.verdict() {
-            Some(v) if v.label != "not-steady" => Class::Label(v.label),
+    /// The class of a point from its seeds' label: `label` is the one its phase-diagram cell
+    /// shows for its `steady` seeds (of `seeds` in all; None without steady seeds), taken when
+    /// at least two thirds of all seeds are steady; else [`Class::Other`].
+    pub fn of_cell(label: Option<&str>, steady: usize, seeds: usize) -> Class {
+        match label {
+            Some(l) if l != "not-steady" && steady > 0 && 3 * steady >= 2 * seeds => {
+                Class::Label(l.to_string())
+            }
             _ => Class::Other,
         }
     }
@@ -461,67 +456,15 @@ mod tests {
         assert!(differ(&Quantity::Label, &Class::Other, &label("plug")));
     }
 
-    /// A steady seed's entry: its label probabilities ("plug 0.6; slug 0.4") over `weight`
-    /// window snapshots, labelled by the first.
-    fn seed(probabilities: &str, weight: f64) -> Option<super::super::phase::CellJob> {
-        let probabilities = super::super::phase::parse_probabilities(probabilities);
-        Some(super::super::phase::CellJob {
-            label: probabilities[0].0.clone(),
-            humps: 0,
-            probabilities,
-            weight,
-            steady: true,
-            guard_valid: true,
-            three_dimensional: false,
-        })
-    }
-
     #[test]
-    fn a_point_is_classed_as_its_diagram_cell() {
-        // seeds that agree: their label
-        assert_eq!(
-            Class::of_replicas(&[seed("plug 1", 30.0), seed("plug 1", 30.0)]),
-            label("plug")
-        );
-        // two of three seeds plug, one slug: the pooled snapshots are two thirds plug
-        assert_eq!(
-            Class::of_replicas(&[
-                seed("plug 1", 30.0),
-                seed("plug 1", 30.0),
-                seed("slug 1", 30.0)
-            ]),
-            label("plug")
-        );
-        // two seeds of two thirds plug and one that alternates: 59 % plug pooled, so the cell
-        // shows `mixed`, and so does the class (Fig. 5.25's L/W = 1.4, W/d = 15 over three
-        // seeds), even though two seeds of three are labelled plug
-        assert_eq!(
-            Class::of_replicas(&[
-                seed("plug 0.7; slug 0.3", 30.0),
-                seed("plug 0.67; slug 0.33", 30.0),
-                seed("slug 0.6; plug 0.4", 30.0)
-            ]),
-            label("mixed")
-        );
-        assert_eq!(
-            Class::of_replicas(&[seed("plug 1", 30.0), seed("slug 1", 30.0)]),
-            label("mixed")
-        );
-        // the snapshots weigh: a long plug window outweighs a short slug one
-        assert_eq!(
-            Class::of_replicas(&[seed("plug 1", 90.0), seed("slug 1", 10.0)]),
-            label("plug")
-        );
+    fn a_point_is_its_cells_label_when_two_thirds_of_its_seeds_are_steady() {
+        assert_eq!(Class::of_cell(Some("plug"), 2, 2), label("plug"));
+        assert_eq!(Class::of_cell(Some("mixed"), 3, 3), label("mixed"));
         // failed or not steady: one seed of three is tolerated, two are not
-        assert_eq!(
-            Class::of_replicas(&[seed("plug 1", 30.0), seed("plug 1", 30.0), None]),
-            label("plug")
-        );
-        assert_eq!(
-            Class::of_replicas(&[seed("plug 1", 30.0), None, None]),
-            Class::Other
-        );
-        assert_eq!(Class::of_replicas(&[None]), Class::Other);
+        assert_eq!(Class::of_cell(Some("plug"), 2, 3), label("plug"));
+        assert_eq!(Class::of_cell(Some("plug"), 1, 3), Class::Other);
+        assert_eq!(Class::of_cell(None, 0, 1), Class::Other);
+        assert_eq!(Class::of_cell(Some("not-steady"), 1, 1), Class::Other);
         assert_eq!(Class::of_values(&[Some(1.0), Some(3.0)]), Class::Value(2.0));
         assert_eq!(Class::of_values(&[Some(1.0), None]), Class::Other);
         assert_eq!(Class::of_values(&[Some(f64::NAN)]), Class::Other);

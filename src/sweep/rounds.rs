@@ -5,7 +5,7 @@
 //! points, and a point's jobs have ordinary ids (the refined points are expanded as extra
 //! points of the sweep, after the file's own).
 
-use super::phase::CellJob;
+use super::phase::{Cell, CellJob};
 use super::refine::{Class, Lattice, Quantity, RefineSpec, Site, Slice};
 use super::spec::{ParamValues, SpecError};
 use super::store::JobState;
@@ -167,17 +167,18 @@ fn class_of(
 ) -> Class {
     let steady = |o: &&(String, serde_json::Map<String, serde_json::Value>)| o.0 != "not-steady";
     match quantity {
-        Quantity::Label => Class::of_replicas(
-            &outcomes
+        Quantity::Label => {
+            let jobs: Vec<CellJob> = outcomes
                 .iter()
-                .map(|o| {
-                    o.as_ref().filter(steady).map(|(label, summary)| {
-                        let humps = summary.get("humps").and_then(serde_json::Value::as_u64);
-                        CellJob::from_summary(label, humps.unwrap_or(0) as u32, summary)
-                    })
+                .flatten()
+                .filter(steady)
+                .map(|(label, summary)| {
+                    let humps = summary.get("humps").and_then(serde_json::Value::as_u64);
+                    CellJob::from_summary(label, humps.unwrap_or(0) as u32, summary)
                 })
-                .collect::<Vec<_>>(),
-        ),
+                .collect();
+            class_of_seeds(jobs, outcomes.len())
+        }
         Quantity::Change { column, .. } | Quantity::Minimum { column } => Class::of_values(
             &outcomes
                 .iter()
@@ -190,6 +191,19 @@ fn class_of(
                 .collect::<Vec<_>>(),
         ),
     }
+}
+
+/// A labelled point's class from its steady seeds (of `seeds` in all): the label its
+/// phase-diagram cell shows for them ([`Cell::verdict`]: pooled by window snapshots, the modal
+/// label with two thirds, else `mixed`), by the rule of [`Class::of_cell`].
+fn class_of_seeds(steady: Vec<CellJob>, seeds: usize) -> Class {
+    let count = steady.len();
+    let cell = Cell {
+        jobs: steady,
+        not_done: 0,
+    };
+    let verdict = cell.verdict();
+    Class::of_cell(verdict.as_ref().map(|v| v.label.as_str()), count, seeds)
 }
 
 /// The sweep with `extra` as further extra points (after the file's), expanded: ordinary jobs
@@ -323,4 +337,57 @@ pub fn bound(sweep: &Sweep) -> Option<String> {
         r.budget,
         most.saturating_sub(base)
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sweep::phase::parse_probabilities;
+
+    /// A steady seed's entry: its label probabilities ("plug 0.6; slug 0.4") over `weight`
+    /// window snapshots, labelled by the first.
+    fn seed(probabilities: &str, weight: f64) -> CellJob {
+        let probabilities = parse_probabilities(probabilities);
+        CellJob {
+            label: probabilities[0].0.clone(),
+            humps: 0,
+            probabilities,
+            weight,
+            steady: true,
+            guard_valid: true,
+            three_dimensional: false,
+        }
+    }
+
+    fn label(l: &str) -> Class {
+        Class::Label(l.to_string())
+    }
+
+    #[test]
+    fn a_point_is_classed_as_its_diagram_cell() {
+        // seeds that agree: their label
+        let plug = || seed("plug 1", 30.0);
+        assert_eq!(class_of_seeds(vec![plug(), plug()], 2), label("plug"));
+        // two of three seeds plug, one slug: the pooled snapshots are two thirds plug
+        let three = vec![plug(), plug(), seed("slug 1", 30.0)];
+        assert_eq!(class_of_seeds(three, 3), label("plug"));
+        // two seeds of two thirds plug and one that alternates: 59 % plug pooled, so the cell
+        // shows `mixed`, and so does the class (Fig. 5.25's L/W = 1.4, W/d = 15 over three
+        // seeds), even though two seeds of three are labelled plug
+        let alternating = vec![
+            seed("plug 0.7; slug 0.3", 30.0),
+            seed("plug 0.67; slug 0.33", 30.0),
+            seed("slug 0.6; plug 0.4", 30.0),
+        ];
+        assert_eq!(class_of_seeds(alternating, 3), label("mixed"));
+        let split = vec![plug(), seed("slug 1", 30.0)];
+        assert_eq!(class_of_seeds(split, 2), label("mixed"));
+        // the snapshots weigh: a long plug window outweighs a short slug one
+        let weighed = vec![seed("plug 1", 90.0), seed("slug 1", 10.0)];
+        assert_eq!(class_of_seeds(weighed, 2), label("plug"));
+        // failed or not steady: one seed of three is tolerated, two are not
+        assert_eq!(class_of_seeds(vec![plug(), plug()], 3), label("plug"));
+        assert_eq!(class_of_seeds(vec![plug()], 3), Class::Other);
+        assert_eq!(class_of_seeds(Vec::new(), 1), Class::Other);
+    }
 }
