@@ -275,6 +275,14 @@ pub fn run(args: SimArgs) -> anyhow::Result<()> {
     let plan = plan(&args)?;
     let engine_def = plan.engine;
     let mut engine = (engine_def.build)(&plan.values, args.seed)?;
+    if let Some(p) = engine.preparation() {
+        outln!(
+            "preparing the initial state ({}, at most {} steps)",
+            p.stage,
+            p.max_steps
+        );
+        engine.prepare(u64::MAX)?;
+    }
     for dir in [&args.xyz, &args.vtk].into_iter().flatten() {
         std::fs::create_dir_all(dir)
             .map_err(|e| anyhow::anyhow!("creating {}: {e}", dir.display()))?;

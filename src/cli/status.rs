@@ -164,17 +164,31 @@ pub fn run(args: StatusArgs) -> anyhow::Result<()> {
                 )
             }
             JobState::Partial(c) => {
-                let c = c.on(run.clock());
-                format!("partial  {c:.0}/{target:.0} {unit} (resumes from its checkpoint)")
+                let dir = dirs.job(&j.job.id);
+                match preparing_at(&dir) {
+                    Some(steps) => format!(
+                        "partial  preparing, step {steps} (resumes from its preparation checkpoint)"
+                    ),
+                    None => {
+                        let c = c.on(run.clock());
+                        format!("partial  {c:.0}/{target:.0} {unit} (resumes from its checkpoint)")
+                    }
+                }
             }
             JobState::Running => {
                 let dir = dirs.job(&j.job.id);
                 let by = dir.holder().map_or(String::new(), |h| format!("  [{h}]"));
-                match dir.checkpoint_progress().map(|p| p.on(run.clock())) {
-                    Some(c) => {
+                match (
+                    dir.checkpoint_progress().map(|p| p.on(run.clock())),
+                    preparing_at(&dir),
+                ) {
+                    (Some(c), _) => {
                         format!("running  {c:.0}/{target:.0} {unit} at the last checkpoint{by}")
                     }
-                    None => format!("running  (claimed by a live runner){by}"),
+                    (None, Some(steps)) => {
+                        format!("running  preparing, step {steps} at the last checkpoint{by}")
+                    }
+                    (None, None) => format!("running  (claimed by a live runner){by}"),
                 }
             }
             JobState::Pending => "pending".to_string(),
@@ -208,4 +222,13 @@ fn damaged_error(jobs: &[tables::GatheredJob]) -> anyhow::Result<()> {
         damaged.join(", ")
     );
     Ok(())
+}
+
+/// The preparation's steps at a job's preparation checkpoint, when it is in the middle of its
+/// preparation (no checkpoint yet).
+fn preparing_at(dir: &crate::sweep::store::JobDir) -> Option<u64> {
+    if dir.checkpoint_progress().is_some() {
+        return None;
+    }
+    dir.preparation().ok().flatten().map(|p| p.steps)
 }

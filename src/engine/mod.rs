@@ -350,6 +350,21 @@ impl Snapshot {
     }
 }
 
+/// A preparation in progress ([`Engine::preparation`]): steps done, the most it may take, and
+/// the quantity whose fall ends it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PreparationProgress {
+    /// the stage it is in (e.g. "compaction", "freezing")
+    pub stage: &'static str,
+    /// steps done so far
+    pub steps: u64,
+    /// the most steps it may take before it is given up as failed
+    pub max_steps: u64,
+    /// what ends the stage, with its value now and the value that ends it (e.g. "kinetic
+    /// energy per particle 3.1e-4, ends below 1.0e-6 m_p g d_p")
+    pub measure: String,
+}
+
 /// Errors an engine reports to the job that runs it.
 #[derive(Debug, thiserror::Error)]
 pub enum EngineError {
@@ -394,6 +409,19 @@ pub trait Engine: Send {
     /// collisions to measure (the default).
     fn record_free_paths(&mut self, _slabs: usize) -> bool {
         false
+    }
+    /// How far the preparation of the initial state has come, while the engine is still
+    /// preparing it (DEM: the particles settling onto a floor before the flow starts); None
+    /// when the engine has no preparation or it is over (the default).
+    fn preparation(&self) -> Option<PreparationProgress> {
+        None
+    }
+    /// Go on with the preparation for at most `steps` of its steps (none left: nothing to do).
+    /// Where a preparation is split into calls does not change its result by a bit (each
+    /// engine that prepares tests this), so a job may checkpoint after any call
+    /// ([`Engine::checkpoint`] is valid there too) and resume.
+    fn prepare(&mut self, _steps: u64) -> Result<(), EngineError> {
+        Ok(())
     }
     /// The free paths ended since the last call (or since recording started), leaving an
     /// empty tally; None when the engine does not record them. A job takes them right after

@@ -8,12 +8,21 @@
 //! the only point where `Engine::checkpoint` is valid, and never driven by wall-clock time, so
 //! a resumed job ends bitwise identical to an uninterrupted one. Records are appended to the
 //! job's record log at every snapshot and made durable before each checkpoint names them.
+//!
+//! An engine that prepares its initial state first (DEM: the packing settles onto a floor,
+//! an hour or more at the paper's widths) does so before snapshot 0, in chunks of about
+//! [`PREPARATION_CHUNK_WORK`] particle-steps, each followed by a preparation checkpoint
+//! (`preparation.bin`) and a progress report; a killed job resumes its preparation from the
+//! last one. Where a preparation is split does not change its bits (the engine's tests), so the
+//! job ends identical to an uninterrupted one.
 
 use super::grid::PlannedJob;
 pub use super::job_error::JobError;
-use super::store::{self, Claim, JobCheckpoint, JobDir, JobResult, RecordLog};
+use super::store::{
+    self, Claim, JobCheckpoint, JobDir, JobResult, PreparationCheckpoint, RecordLog,
+};
 use crate::analysis::{Analyser, Record, StopCheck};
-use crate::engine::{Engine, StopAt};
+use crate::engine::{Engine, PreparationProgress, StopAt};
 use crate::provenance::Provenance;
 use std::time::Instant;
 
@@ -28,14 +37,31 @@ pub enum JobEnd {
     ClaimLost(String),
 }
 
-/// Progress of a running job, reported after each snapshot.
-#[derive(Clone, Copy, Debug)]
+/// Where a call to [`run_job`] stops early (tests of resumption).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopAfter {
+    /// after snapshot k (and its checkpoint, when one falls there)
+    Snapshot(u32),
+    /// once the preparation has done at least this many of its steps (its checkpoint written)
+    PreparationSteps(u64),
+}
+
+/// Particle-steps of preparation between two preparation checkpoints: 20-60 s at the DEM
+/// engine's 7-18 M particle-steps/s on one core (docs/performance.md). Any chunking gives the
+/// same bits; this one bounds the work a kill can lose.
+pub const PREPARATION_CHUNK_WORK: f64 = 4e8;
+
+/// Progress of a running job, reported after each snapshot (and each chunk of a preparation).
+#[derive(Clone, Debug)]
 pub struct JobProgress {
     /// the run's clock now
     pub clock: f64,
     /// the run length on that clock
     pub target: f64,
     pub events_per_second: f64,
+    /// the preparation's progress while the engine prepares its initial state (the clock
+    /// then reads its start)
+    pub preparing: Option<PreparationProgress>,
 }
 
 /// A job between snapshots: its engine, the records so far (also in the record log) and
@@ -66,12 +92,25 @@ enum Advanced {
 pub fn run_job(
     job: &PlannedJob,
     claim: &Claim,
-    stop_after: Option<u32>,
+    stop_after: Option<StopAfter>,
     on_progress: &mut dyn FnMut(JobProgress),
 ) -> Result<JobEnd, JobError> {
     let analyser = job.params.analyser()?;
     let started = Instant::now();
-    let mut running = start_or_resume(job, &claim.dir, &analyser, started)?;
+    let mut running = match claim.dir.checkpoint()? {
+        Some(cp) => resume(job, &claim.dir, &analyser, cp)?,
+        None => match prepare(job, claim, stop_after, started, on_progress)? {
+            Prepared::Ready(engine, wall_before) => {
+                start(job, &claim.dir, &analyser, engine, wall_before, started)?
+            }
+            Prepared::Stopped => return Ok(JobEnd::Stopped),
+            Prepared::ClaimLost(why) => return Ok(JobEnd::ClaimLost(why)),
+        },
+    };
+    let stop_after = match stop_after {
+        Some(StopAfter::Snapshot(k)) => Some(k),
+        _ => None,
+    };
     if running.engine.def().name != job.params.engine {
         return Err(JobError::Engine(format!(
             "the checkpoint holds a {} engine, the job runs {}",
@@ -96,37 +135,126 @@ pub fn run_job(
         .map(|r| JobEnd::Finished(Box::new(r)))
 }
 
-/// The job's state from its last checkpoint, or (without one) a new engine with its first
-/// snapshot recorded and checkpoint 0 written.
-fn start_or_resume(
-    job: &PlannedJob,
-    dir: &JobDir,
-    analyser: &Analyser,
-    started: Instant,
-) -> Result<Running, JobError> {
-    let build = format!(
+/// The build and host, as log lines name them.
+fn build_tag() -> String {
+    format!(
         "[{} on {}]",
         crate::provenance::Provenance::build(),
         crate::provenance::host()
-    );
-    if let Some(cp) = dir.checkpoint()? {
-        let (log, records) = RecordLog::resume(dir.path(), &job.id.0, &cp)?;
-        dir.log(&format!("resume at snapshot {} {build}", cp.snapshot))?;
-        let mut engine: Box<dyn Engine> = crate::registry::restore(&cp.engine)?;
-        // free paths are not part of the engine's state: switched on again (the checkpoint
-        // was taken right after a snapshot had emptied the tally)
-        if let Some(slabs) = analyser.free_path_slabs() {
-            engine.record_free_paths(slabs);
+    )
+}
+
+/// The job's state from its last checkpoint.
+fn resume(
+    job: &PlannedJob,
+    dir: &JobDir,
+    analyser: &Analyser,
+    cp: JobCheckpoint,
+) -> Result<Running, JobError> {
+    let (log, records) = RecordLog::resume(dir.path(), &job.id.0, &cp)?;
+    dir.log(&format!(
+        "resume at snapshot {} {}",
+        cp.snapshot,
+        build_tag()
+    ))?;
+    let mut engine: Box<dyn Engine> = crate::registry::restore(&cp.engine)?;
+    // free paths are not part of the engine's state: switched on again (the checkpoint
+    // was taken right after a snapshot had emptied the tally)
+    if let Some(slabs) = analyser.free_path_slabs() {
+        engine.record_free_paths(slabs);
+    }
+    Ok(Running {
+        engine,
+        records,
+        log,
+        k: cp.snapshot,
+        wall_before: cp.wall_seconds,
+    })
+}
+
+/// How the preparation ended.
+enum Prepared {
+    /// the engine in its initial state, and the wall-clock seconds its preparation took in
+    /// earlier calls
+    Ready(Box<dyn Engine>, f64),
+    /// at the step [`StopAfter::PreparationSteps`] asked for
+    Stopped,
+    /// the claim was lost
+    ClaimLost(String),
+}
+
+/// A job without a checkpoint: its engine built (or restored from its preparation
+/// checkpoint) and, when it has a preparation, prepared chunk by chunk, each chunk followed by
+/// a preparation checkpoint and a progress report.
+fn prepare(
+    job: &PlannedJob,
+    claim: &Claim,
+    stop_after: Option<StopAfter>,
+    started: Instant,
+    on_progress: &mut dyn FnMut(JobProgress),
+) -> Result<Prepared, JobError> {
+    let dir = &claim.dir;
+    let (mut engine, wall_before, mut logged) = match dir.preparation()? {
+        Some(cp) => {
+            let engine = crate::registry::restore(&cp.engine)?;
+            dir.log(&format!(
+                "resume the preparation at step {} {}",
+                cp.steps,
+                build_tag()
+            ))?;
+            (engine, cp.wall_seconds, true)
         }
-        return Ok(Running {
-            engine,
-            records,
-            log,
-            k: cp.snapshot,
-            wall_before: cp.wall_seconds,
+        None => (job.params.build_engine()?, 0.0, false),
+    };
+    let n = engine.particle_count().max(1) as f64;
+    let chunk = ((PREPARATION_CHUNK_WORK / n) as u64).max(100);
+    let events_at_start = engine.progress().events;
+    while let Some(at) = engine.preparation() {
+        let steps = match stop_after {
+            Some(StopAfter::PreparationSteps(s)) if at.steps >= s => return Ok(Prepared::Stopped),
+            Some(StopAfter::PreparationSteps(s)) => chunk.min(s - at.steps),
+            _ => chunk,
+        };
+        engine.prepare(steps)?;
+        if let Err(why) = claim.still_held() {
+            return Ok(Prepared::ClaimLost(why));
+        }
+        let preparing = engine.preparation();
+        // a finished preparation is held by checkpoint 0, written next
+        if let Some(p) = &preparing {
+            dir.write_preparation(&PreparationCheckpoint::new(
+                &job.id.0,
+                p.steps,
+                wall_before + started.elapsed().as_secs_f64(),
+                engine.checkpoint(),
+            ))?;
+            // the log line after the state is on disk, as for `start`
+            if !logged {
+                dir.log(&format!("prepare {}", build_tag()))?;
+                logged = true;
+            }
+        }
+        let secs = started.elapsed().as_secs_f64().max(1e-9);
+        on_progress(JobProgress {
+            clock: 0.0,
+            target: job.params.run.length(),
+            events_per_second: (engine.progress().events - events_at_start) as f64 / secs,
+            preparing,
         });
     }
-    let mut engine = job.params.build_engine()?;
+    Ok(Prepared::Ready(engine, wall_before))
+}
+
+/// A new job from its prepared engine: its first snapshot recorded and checkpoint 0 written
+/// (the preparation checkpoint, if any, removed after it).
+fn start(
+    job: &PlannedJob,
+    dir: &JobDir,
+    analyser: &Analyser,
+    mut engine: Box<dyn Engine>,
+    wall_before: f64,
+    started: Instant,
+) -> Result<Running, JobError> {
     if let Some(slabs) = analyser.free_path_slabs() {
         engine.record_free_paths(slabs);
     }
@@ -143,16 +271,17 @@ fn start_or_resume(
         0,
         engine.checkpoint(),
         &log,
-        started.elapsed().as_secs_f64(),
+        wall_before + started.elapsed().as_secs_f64(),
         snap.progress,
     ))?;
-    dir.log(&format!("start {build}"))?;
+    dir.remove_preparation()?;
+    dir.log(&format!("start {}", build_tag()))?;
     Ok(Running {
         engine,
         records,
         log,
         k: 0,
-        wall_before: 0.0,
+        wall_before,
     })
 }
 
@@ -215,6 +344,7 @@ fn advance(
             clock: snap.progress.on(clock),
             target: run.length(),
             events_per_second: (snap.progress.events - events_at_start) as f64 / secs,
+            preparing: None,
         });
     }
     let reason = match &run.until_steady {

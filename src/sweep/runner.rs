@@ -720,6 +720,10 @@ impl<'r, 'a> JobBar<'r, 'a> {
     }
 
     fn update(&mut self, p: execute::JobProgress) {
+        if let Some(prep) = &p.preparing {
+            self.preparing(prep, p.events_per_second);
+            return;
+        }
         let show = self.run.show;
         let unit = self.job.params.run.clock().unit();
         self.bar.set_position((1000.0 * p.clock / p.target) as u64);
@@ -758,6 +762,31 @@ impl<'r, 'a> JobBar<'r, 'a> {
                 p.clock,
                 p.target,
                 p.events_per_second
+            ));
+            show.sweep_line_now_and_then();
+        }
+    }
+}
+
+impl JobBar<'_, '_> {
+    /// A chunk of the engine's preparation done: its stage and steps in the bar's message
+    /// (the clock has not started; the sweep's bar and ETA wait for it), and without a
+    /// terminal a plain line at the fixed interval.
+    fn preparing(&mut self, p: &crate::engine::PreparationProgress, events_per_second: f64) {
+        let text = format!(
+            "preparing ({}): step {} of at most {}, {}",
+            p.stage, p.steps, p.max_steps, p.measure
+        );
+        self.bar
+            .set_message(format!("{text}, {events_per_second:.2e} events/s"));
+        let show = self.run.show;
+        if !show.interactive && self.printed.elapsed() >= show.every {
+            self.printed = std::time::Instant::now();
+            show.say(format!(
+                "preparing {} [{}] {}: {text}, {events_per_second:.2e} events/s",
+                self.job.id,
+                self.job.index,
+                self.run.point_of(self.job),
             ));
             show.sweep_line_now_and_then();
         }

@@ -7,4 +7,5 @@ mod conservation;
 mod determinism;
 mod import;
 mod lammps;
+mod preparation;
 mod support;

@@ -150,7 +150,14 @@ fn run_until_steady_stops_at_the_same_snapshot_when_interrupted() {
         store::init_job_dir(&jd, job).unwrap();
         for &stop in stops {
             let claim = store::try_claim(&jd, false).unwrap().unwrap();
-            match execute::run_job(job, &claim, Some(stop), &mut |_| {}).unwrap() {
+            match execute::run_job(
+                job,
+                &claim,
+                Some(execute::StopAfter::Snapshot(stop)),
+                &mut |_| {},
+            )
+            .unwrap()
+            {
                 JobEnd::Stopped => {}
                 other => panic!("finished before snapshot {stop}: {other:?}"),
             }

@@ -139,7 +139,14 @@ fn report_of_a_running_sweep_loads_in_a_browser_and_shows_the_diagram() {
     let running_dir = dirs.job_dir(&running.id);
     store::init_job_dir(&running_dir, running).unwrap();
     let claim = store::try_claim(&running_dir, false).unwrap().unwrap();
-    match execute::run_job(running, &claim, Some(5), &mut |_| {}).unwrap() {
+    match execute::run_job(
+        running,
+        &claim,
+        Some(execute::StopAfter::Snapshot(5)),
+        &mut |_| {},
+    )
+    .unwrap()
+    {
         JobEnd::Stopped => {}
         other => panic!("the job ended early: {other:?}"),
     }

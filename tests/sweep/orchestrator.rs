@@ -407,7 +407,13 @@ fn resumed_job_is_bitwise_identical() {
         queue::init_job_dir(&jd, job).unwrap();
         for &stop in stops {
             let claim = queue::try_claim(&jd, false).unwrap().unwrap();
-            let end = execute::run_job(job, &claim, Some(stop), &mut |_| {}).unwrap();
+            let end = execute::run_job(
+                job,
+                &claim,
+                Some(execute::StopAfter::Snapshot(stop)),
+                &mut |_| {},
+            )
+            .unwrap();
             assert!(matches!(end, JobEnd::Stopped));
         }
         let claim = queue::try_claim(&jd, false).unwrap().unwrap();
@@ -822,7 +828,13 @@ fn plan_calibrates_on_checkpointed_jobs() {
     queue::init_job_dir(&jd, job).unwrap();
     let claim = queue::try_claim(&jd, false).unwrap().unwrap();
     assert!(matches!(
-        execute::run_job(job, &claim, Some(5), &mut |_| {}).unwrap(),
+        execute::run_job(
+            job,
+            &claim,
+            Some(execute::StopAfter::Snapshot(5)),
+            &mut |_| {}
+        )
+        .unwrap(),
         JobEnd::Stopped
     ));
     drop(claim);

@@ -7,13 +7,13 @@ use super::params::{
     DEFAULT_RESTITUTION, DampingFrom, DemParams, REFERENCE_PAIR_MASS, SizeMix, WallDamping,
     damping_for_restitution, default_time_step,
 };
-use super::{DemEngine, prepare};
+use super::{DemEngine, Phase, prepare};
 use crate::engine::declare::{
     BuiltEngine, CounterDef, InId, ParamDefault, ParamKind, Problem, ranges,
 };
 use crate::engine::{
-    Clock, Content, Counters, Engine, EngineDef, EngineError, ParamDef, ParamValue, Progress,
-    Snapshot, StopAt, Values, envelope,
+    Clock, Content, Counters, Engine, EngineDef, EngineError, ParamDef, ParamValue,
+    PreparationProgress, Progress, Snapshot, StopAt, Values, envelope,
 };
 
 /// The declaration of the `dem` engine.
@@ -465,8 +465,11 @@ fn resolve(values: &mut Values) -> Result<(), Problem> {
     params_of(values, 0).validate()
 }
 
+/// The engine before its preparation: a job settles the packing in checkpointed chunks
+/// ([`Engine::prepare`]); `advance` finishes whatever is left first.
 fn build(values: &Values, seed: u64) -> BuiltEngine {
-    let engine = DemEngine::new(params_of(values, seed)).map_err(EngineError::InvalidParams)?;
+    let engine =
+        DemEngine::unprepared(params_of(values, seed)).map_err(EngineError::InvalidParams)?;
     Ok(Box::new(engine))
 }
 
@@ -546,6 +549,32 @@ impl Engine for DemEngine {
 
     fn checkpoint(&self) -> Vec<u8> {
         envelope::seal(DECLARATION.name, PAYLOAD_VERSION, &self.to_payload())
+    }
+
+    fn preparation(&self) -> Option<PreparationProgress> {
+        let Phase::Preparing(p) = self.phase() else {
+            return None;
+        };
+        let (stage, ends_below) = if p.freezing {
+            ("freezing", p.threshold)
+        } else {
+            ("compaction", p.compact_threshold)
+        };
+        Some(PreparationProgress {
+            stage,
+            steps: p.steps,
+            max_steps: p.max_steps,
+            measure: format!(
+                "kinetic energy per particle {:.2e}, ends below {ends_below:.2e}",
+                p.last_energy
+            ),
+        })
+    }
+
+    fn prepare(&mut self, steps: u64) -> Result<(), EngineError> {
+        DemEngine::prepare(self, steps)
+            .map(|_| ())
+            .map_err(EngineError::InvalidParams)
     }
 }
 

@@ -88,6 +88,21 @@ impl JobDir {
         super::write_checkpoint(&self.path, cp)
     }
 
+    /// The preparation checkpoint, if the job is in the middle of its preparation.
+    pub fn preparation(&self) -> anyhow::Result<Option<super::PreparationCheckpoint>> {
+        super::read_preparation(&self.path)
+    }
+
+    /// Replace the preparation checkpoint (atomically).
+    pub fn write_preparation(&self, cp: &super::PreparationCheckpoint) -> anyhow::Result<()> {
+        super::write_preparation(&self.path, cp)
+    }
+
+    /// Remove the preparation checkpoint (checkpoint 0 holds the job now).
+    pub fn remove_preparation(&self) -> anyhow::Result<()> {
+        super::remove_preparation(&self.path)
+    }
+
     /// The progress of the last checkpoint, if one is readable.
     pub fn checkpoint_progress(&self) -> Option<crate::engine::Progress> {
         super::checkpoint_progress(&self.path)

@@ -6,12 +6,15 @@
 //! `jobs/<id>/` holds:
 //! - `params.json`: the resolved parameters and canonical form, written once;
 //! - `lock`: the claim; a runner holds an exclusive `flock` on it while the job runs;
+//! - `preparation.bin`: the engine in the middle of preparing its initial state (DEM's
+//!   settling), replaced atomically, removed once `checkpoint.bin` exists;
 //! - `checkpoint.bin`: engine checkpoint and how many records it covers, replaced atomically;
 //! - `records.bin`: the analysis records, one frame per snapshot, appended (never rewritten:
 //!   checkpoint I/O stays linear in the run length);
 //! - `result.ron`: the job's analysis and counters; its presence means done;
 //! - `failed.txt`: the error of a failed job (removed by `--retry-failed`);
-//! - `log.txt`: one line per start ("start" or "resume"), end ("done") or failure, appended;
+//! - `log.txt`: one line per start ("prepare", "start" or "resume"), end ("done") or failure,
+//!   appended;
 //! - `figures/`: the job's figures (`<name>.png` and `.svg`, see `crate::job_figures`),
 //!   written when it finishes (and by `granflow report` where they are missing).
 
@@ -24,6 +27,7 @@ use serde::{Deserialize, Serialize};
 mod checkpoint;
 mod claim;
 mod job_dir;
+mod preparation;
 mod records;
 mod result;
 
@@ -33,6 +37,9 @@ pub use checkpoint::{
 };
 pub use claim::{Claim, NotClaimed, allow_claims_without_locks, check_locking, holder, try_claim};
 pub use job_dir::JobDir;
+pub use preparation::{
+    PreparationCheckpoint, read_preparation, remove_preparation, write_preparation,
+};
 pub use records::{RecordLog, check_log_cheaply, load_records, records_so_far};
 pub use result::{JobResult, RESULT_FORMAT, done_line, read_result, write_result};
 use std::fs::OpenOptions;
@@ -42,6 +49,7 @@ use std::path::{Path, PathBuf};
 pub const PARAMS_FILE: &str = "params.json";
 pub const LOCK_FILE: &str = "lock";
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
+pub const PREPARATION_FILE: &str = "preparation.bin";
 pub const RESULT_FILE: &str = "result.ron";
 pub const FAILED_FILE: &str = "failed.txt";
 pub const LOG_FILE: &str = "log.txt";
@@ -216,7 +224,15 @@ fn state_unlocked(dir: &Path, verify: bool) -> JobState {
             },
             _ => JobState::Partial(cp.progress),
         },
-        Ok(None) => JobState::Pending,
+        // in the middle of its preparation: partial at the clocks' start
+        Ok(None) => match read_preparation(dir) {
+            Ok(None) => JobState::Pending,
+            Ok(Some(_)) => JobState::Partial(crate::engine::Progress::default()),
+            Err(e) => JobState::Damaged {
+                file: PREPARATION_FILE,
+                reason: format!("{e:#}"),
+            },
+        },
         Err(e) => JobState::Damaged {
             file: CHECKPOINT_FILE,
             reason: format!("{e:#}"),
@@ -365,11 +381,12 @@ pub fn complete_done_log(dir: &Path) -> std::io::Result<()> {
     }
 }
 
-/// When the job first started (the time of its log's first `start`), if the log says.
+/// When the job first started (the time of its log's first `prepare` or `start`), if the log
+/// says.
 pub fn first_start(dir: &Path) -> Option<String> {
     let text = std::fs::read_to_string(dir.join(LOG_FILE)).ok()?;
     text.lines()
-        .find(|l| l.split(' ').nth(1) == Some("start"))
+        .find(|l| matches!(l.split(' ').nth(1), Some("start" | "prepare")))
         .and_then(|l| l.split(' ').next())
         .map(str::to_string)
 }
