@@ -323,6 +323,10 @@ fn advance(
         let snap = at.engine.snapshot();
         let paths = at.engine.take_free_paths();
         let record = analyser.record_with(&snap, k, paths)?;
+        // the snapshot's particles are not needed past its record: freed before the
+        // checkpoint, which is the peak of a big job's memory
+        let progress = snap.progress;
+        drop(snap);
         at.log.append(&record)?;
         at.records.push(record);
         if k % run.checkpoint_every == 0 || k == total {
@@ -336,14 +340,14 @@ fn advance(
                 at.engine.checkpoint(),
                 &at.log,
                 at.wall_before + started.elapsed().as_secs_f64(),
-                snap.progress,
+                progress,
             ))?;
         }
         let secs = started.elapsed().as_secs_f64().max(1e-9);
         on_progress(JobProgress {
-            clock: snap.progress.on(clock),
+            clock: progress.on(clock),
             target: run.length(),
-            events_per_second: (snap.progress.events - events_at_start) as f64 / secs,
+            events_per_second: (progress.events - events_at_start) as f64 / secs,
             preparing: None,
         });
     }

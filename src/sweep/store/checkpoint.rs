@@ -3,7 +3,7 @@
 //! still read: format 1 (before engines were plug-ins) held the structure records inline,
 //! format 3 had no digest of the record log.
 
-use super::{CHECKPOINT_FILE, write_atomic};
+use super::{CHECKPOINT_FILE, write_postcard_with_crc};
 use crate::analysis::{BinSums, Record, SnapshotRecord};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -347,9 +347,5 @@ pub fn checkpoint_tail(dir: &Path) -> anyhow::Result<Option<CheckpointTail>> {
 
 /// Write a job's checkpoint atomically.
 pub fn write_checkpoint(dir: &Path, cp: &JobCheckpoint) -> anyhow::Result<()> {
-    let mut bytes = postcard::to_stdvec(cp)?;
-    let crc = crc32fast::hash(&bytes);
-    bytes.extend_from_slice(&crc.to_le_bytes());
-    write_atomic(&dir.join(CHECKPOINT_FILE), &bytes)?;
-    Ok(())
+    write_postcard_with_crc(&dir.join(CHECKPOINT_FILE), cp)
 }

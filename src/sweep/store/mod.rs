@@ -56,6 +56,39 @@ pub const LOG_FILE: &str = "log.txt";
 pub const RECORDS_FILE: &str = "records.bin";
 pub use crate::job_figures::FIGURES_DIR;
 
+/// Write `value`'s postcard bytes followed by their CRC-32 (little endian) to `path`
+/// atomically, streamed into the file: a checkpoint's engine bytes are not copied again.
+pub(crate) fn write_postcard_with_crc<T: Serialize>(path: &Path, value: &T) -> anyhow::Result<()> {
+    crate::fs::write_atomic_with(path, |file| {
+        let mut out = Crc32Writer {
+            inner: file,
+            crc: crc32fast::Hasher::new(),
+        };
+        postcard::to_io(value, &mut out).map_err(std::io::Error::other)?;
+        let crc = out.crc.finalize();
+        out.inner.write_all(&crc.to_le_bytes())
+    })?;
+    Ok(())
+}
+
+/// A writer that keeps the CRC-32 of what passes through it.
+struct Crc32Writer<'a> {
+    inner: &'a mut dyn Write,
+    crc: crc32fast::Hasher,
+}
+
+impl Write for Crc32Writer<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.crc.update(&buf[..n]);
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
+}
+
 /// The state of a job as its directory tells it.
 #[derive(Clone, Debug, PartialEq)]
 pub enum JobState {

@@ -4,7 +4,7 @@
 //! another job is refused. Removed once checkpoint 0 is written: from then on
 //! `checkpoint.bin` holds the job.
 
-use super::{PREPARATION_FILE, write_atomic};
+use super::{PREPARATION_FILE, write_postcard_with_crc};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -41,11 +41,7 @@ impl PreparationCheckpoint {
 
 /// Replace the job's preparation checkpoint (atomically, durable when this returns).
 pub fn write_preparation(dir: &Path, cp: &PreparationCheckpoint) -> anyhow::Result<()> {
-    let mut bytes = postcard::to_allocvec(cp)?;
-    let crc = crc32fast::hash(&bytes);
-    bytes.extend_from_slice(&crc.to_le_bytes());
-    write_atomic(&dir.join(PREPARATION_FILE), &bytes)?;
-    Ok(())
+    write_postcard_with_crc(&dir.join(PREPARATION_FILE), cp)
 }
 
 /// Read a job's preparation checkpoint (None when there is none), checked: its CRC, its
