@@ -234,13 +234,16 @@ fn prepare(
                 logged = true;
             }
         }
-        let secs = started.elapsed().as_secs_f64().max(1e-9);
-        on_progress(JobProgress {
-            clock: 0.0,
-            target: job.params.run.length(),
-            events_per_second: (engine.progress().events - events_at_start) as f64 / secs,
-            preparing,
-        });
+        // reported while it lasts (once over, the run's first snapshot reports next)
+        if preparing.is_some() {
+            let secs = started.elapsed().as_secs_f64().max(1e-9);
+            on_progress(JobProgress {
+                clock: 0.0,
+                target: job.params.run.length(),
+                events_per_second: (engine.progress().events - events_at_start) as f64 / secs,
+                preparing,
+            });
+        }
     }
     Ok(Prepared::Ready(engine, wall_before))
 }

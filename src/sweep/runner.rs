@@ -750,7 +750,7 @@ impl<'r, 'a> JobBar<'r, 'a> {
             let rate =
                 (p.clock - self.start_clock) / self.started.elapsed().as_secs_f64().max(1e-9);
             let eta = if rate > 0.0 {
-                format!("{:.0} s", (p.target - p.clock) / rate)
+                format!("{:.0} s", ((p.target - p.clock) / rate).max(0.0))
             } else {
                 "?".into()
             };
@@ -773,6 +773,8 @@ impl JobBar<'_, '_> {
     /// (the clock has not started; the sweep's bar and ETA wait for it), and without a
     /// terminal a plain line at the fixed interval.
     fn preparing(&mut self, p: &crate::engine::PreparationProgress, events_per_second: f64) {
+        // the run's rate (and ETA) counts from the end of the preparation
+        self.started = std::time::Instant::now();
         let text = format!(
             "preparing ({}): step {} of at most {}, {}",
             p.stage, p.steps, p.max_steps, p.measure
