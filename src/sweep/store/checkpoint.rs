@@ -156,18 +156,10 @@ pub fn checkpoint_measure(dir: &Path) -> Option<(crate::engine::Progress, f64)> 
 /// Read a job's checkpoint (None when there is none).
 pub fn read_checkpoint(dir: &Path) -> anyhow::Result<Option<JobCheckpoint>> {
     let path = dir.join(CHECKPOINT_FILE);
-    let bytes = match std::fs::read(&path) {
-        Ok(b) => b,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(e.into()),
+    let Some(body) = super::read_crc_checked(&path, "checkpoint")? else {
+        return Ok(None);
     };
-    anyhow::ensure!(bytes.len() >= 4, "{}: truncated checkpoint", path.display());
-    let (body, crc) = bytes.split_at(bytes.len() - 4);
-    anyhow::ensure!(
-        crc32fast::hash(body).to_le_bytes() == crc,
-        "{}: checkpoint checksum mismatch",
-        path.display()
-    );
+    let body = body.as_slice();
     let (format, _) = postcard::take_from_bytes::<u32>(body)?;
     let cp = match format {
         1 => {

@@ -71,6 +71,25 @@ pub(crate) fn write_postcard_with_crc<T: Serialize>(path: &Path, value: &T) -> a
     Ok(())
 }
 
+/// The bytes [`write_postcard_with_crc`] wrote to `path`, its CRC-32 checked and cut off (None
+/// when there is no file); `what` names the file in the errors ("checkpoint").
+pub(crate) fn read_crc_checked(path: &Path, what: &str) -> anyhow::Result<Option<Vec<u8>>> {
+    let mut bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(e.into()),
+    };
+    anyhow::ensure!(bytes.len() >= 4, "{}: truncated {what}", path.display());
+    let body_len = bytes.len() - 4;
+    anyhow::ensure!(
+        crc32fast::hash(&bytes[..body_len]).to_le_bytes() == bytes[body_len..],
+        "{}: {what} checksum mismatch",
+        path.display()
+    );
+    bytes.truncate(body_len);
+    Ok(Some(bytes))
+}
+
 /// A writer that keeps the CRC-32 of what passes through it.
 struct Crc32Writer<'a> {
     inner: &'a mut dyn Write,

@@ -48,22 +48,10 @@ pub fn write_preparation(dir: &Path, cp: &PreparationCheckpoint) -> anyhow::Resu
 /// format and the job it names.
 pub fn read_preparation(dir: &Path) -> anyhow::Result<Option<PreparationCheckpoint>> {
     let path = dir.join(PREPARATION_FILE);
-    let bytes = match std::fs::read(&path) {
-        Ok(b) => b,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(anyhow::anyhow!("{}: {e}", path.display())),
+    let Some(body) = super::read_crc_checked(&path, "preparation checkpoint")? else {
+        return Ok(None);
     };
-    anyhow::ensure!(
-        bytes.len() >= 4,
-        "{}: truncated preparation checkpoint",
-        path.display()
-    );
-    let (body, crc) = bytes.split_at(bytes.len() - 4);
-    anyhow::ensure!(
-        crc32fast::hash(body).to_le_bytes() == crc,
-        "{}: preparation checkpoint checksum mismatch",
-        path.display()
-    );
+    let body = body.as_slice();
     let (format, _) = postcard::take_from_bytes::<u32>(body)?;
     anyhow::ensure!(
         format == PREPARATION_FORMAT,

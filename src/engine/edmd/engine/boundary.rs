@@ -4,17 +4,24 @@
 use super::*;
 
 impl EdmdEngine {
+    /// Position and velocity of the particle in slot `s` brought from its local time to `now`
+    /// (not stored: the state and the checkpoint read them so).
+    fn flown_to_now(&self, s: usize) -> ([f64; 3], [f64; 3]) {
+        let k = &self.kin[s];
+        fly(
+            k.position,
+            k.velocity,
+            self.params.gravity,
+            self.now - k.time,
+        )
+    }
+
     /// Current state as plain data (particles at their local times brought to `now`): the
     /// reference for [`EdmdEngine::checkpoint_bytes`].
     #[cfg(test)]
     pub(super) fn state(&self) -> EngineState {
-        let g = self.params.gravity;
-        let flown = |s: usize| {
-            let k = &self.kin[s];
-            fly(k.position, k.velocity, g, self.now - k.time)
-        };
-        let positions = self.by_id(|s| flown(s).0);
-        let velocities = self.by_id(|s| flown(s).1);
+        let positions = self.by_id(|s| self.flown_to_now(s).0);
+        let velocities = self.by_id(|s| self.flown_to_now(s).1);
         EngineState {
             params: self.params.clone(),
             now: self.now,
@@ -40,12 +47,10 @@ impl EdmdEngine {
         for (slot, &id) in self.ids.iter().enumerate() {
             slots[id as usize] = slot as u32;
         }
-        let g = self.params.gravity;
-        let flown = |s: usize| {
-            let k = &self.kin[s];
-            fly(k.position, k.velocity, g, self.now - k.time)
-        };
-        let (position, velocity) = (|s| flown(s).0, |s| flown(s).1);
+        let (position, velocity) = (
+            |s: usize| self.flown_to_now(s).0,
+            |s: usize| self.flown_to_now(s).1,
+        );
         let (angular, last) = (
             |s: usize| self.own[s].angular,
             |s: usize| self.own[s].last_collision,
